@@ -1,0 +1,82 @@
+// strata::Image: a float image of 1 to 4 channels that follows CONVENTIONS §1.
+//
+// Storage is row-major and top row first, exactly as in an image file: row 0 is the edge v = 1,
+// column 0 is u = 0. Texel (column i, row j) of a W x H image has its centre at
+//     u = (i + 0.5) / W,   v = 1 - (j + 0.5) / H.
+// Between texel centres an image is reconstructed bilinearly with wrap-around in both directions
+// (every Strata texture tiles toroidally); sample() implements exactly that reconstruction, and the
+// exact references (AO, ray tracing) intersect this bilinear surface.
+//
+// Values are whatever the map holds: depth in [0, 1], tangent-space normal components in [-1, 1],
+// sRGB-encoded colour in [0, 1], AO in [0, 1]. The type does not clamp.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace strata {
+
+class Image {
+public:
+    // The largest width or height Strata accepts anywhere (readers refuse larger images before
+    // allocating anything). 16384^2 x 4 channels x 4 bytes = 4 GiB.
+    static constexpr int kMaxDimension = 16384;
+
+    Image() = default;
+    // A width x height image of `channels` channels (1..4), every value set to `fill`.
+    // Dimensions must be in [1, kMaxDimension] (checked: a violation is a bug in the caller;
+    // readers validate file dimensions and throw strata::Error first).
+    Image(int width, int height, int channels, float fill = 0.0f);
+
+    int width() const { return mWidth; }
+    int height() const { return mHeight; }
+    int channels() const { return mChannels; }
+    bool empty() const { return mPixels.empty(); }
+    std::size_t texelCount() const { return static_cast<std::size_t>(mWidth) * mHeight; }
+
+    // Texel access by column x in [0, W) and row y in [0, H) (row 0 = top = v near 1).
+    float& at(int x, int y, int c = 0) { return mPixels[index(x, y) + c]; }
+    float at(int x, int y, int c = 0) const { return mPixels[index(x, y) + c]; }
+    // Texel access with wrap-around: any integer x, y.
+    float atWrapped(int x, int y, int c = 0) const { return at(wrap(x, mWidth), wrap(y, mHeight), c); }
+
+    float* row(int y) { return mPixels.data() + index(0, y); }
+    const float* row(int y) const { return mPixels.data() + index(0, y); }
+    std::span<float> pixels() { return mPixels; }
+    std::span<const float> pixels() const { return mPixels; }
+
+    // Bilinear, wrap-around sample of channel c at texture coordinates (u, v); any real u, v
+    // (the texture repeats). At a texel centre it returns that texel's value exactly.
+    float sample(double u, double v, int c = 0) const;
+    // All channels at once into out[0 .. channels()-1].
+    void sample(double u, double v, float* out) const;
+
+    // Bilinear, wrap-around sample in continuous texel coordinates: x = u * W - 0.5, y = (1 - v) * H - 0.5,
+    // so that integer (x, y) is a texel centre. Compositing uses this form to stay exact at centres.
+    void sampleTexel(double x, double y, float* out) const;
+
+    // The texture coordinates of texel (x, y)'s centre.
+    double texelU(int x) const { return (x + 0.5) / mWidth; }
+    double texelV(int y) const { return 1.0 - (y + 0.5) / mHeight; }
+
+    bool operator==(const Image& other) const = default;
+
+    static int wrap(int i, int n) {
+        const int r = i % n;
+        return r < 0 ? r + n : r;
+    }
+
+private:
+    std::size_t index(int x, int y) const {
+        return (static_cast<std::size_t>(y) * mWidth + x) * mChannels;
+    }
+
+    int mWidth = 0;
+    int mHeight = 0;
+    int mChannels = 0;
+    std::vector<float> mPixels;
+};
+
+} // namespace strata

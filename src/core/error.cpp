@@ -1,0 +1,28 @@
+#include "strata/core/check.h"
+#include "strata/core/error.h"
+
+#include <cstdio>
+#include <cstdlib>
+
+namespace strata {
+
+const char* toString(ErrorKind kind) {
+    switch (kind) {
+    case ErrorKind::Usage: return "usage error";
+    case ErrorKind::Io: return "I/O error";
+    case ErrorKind::InvalidInput: return "invalid input";
+    case ErrorKind::Runtime: return "runtime error";
+    case ErrorKind::Unsupported: return "unsupported";
+    }
+    return "error";
+}
+
+namespace detail {
+
+void checkFailed(const char* file, int line, const std::string& what) {
+    std::fprintf(stderr, "strata: internal check failed at %s:%d: %s\n", file, line, what.c_str());
+    std::abort();
+}
+
+} // namespace detail
+} // namespace strata

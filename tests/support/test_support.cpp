@@ -1,0 +1,63 @@
+#include "test_support.h"
+
+#include "strata/core/check.h"
+
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace strata::test {
+
+ScratchDir::ScratchDir(const std::string& name) {
+    static std::atomic<int> counter{0};
+    mPath = fs::temp_directory_path() /
+            ("strata-test-" + name + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    fs::remove_all(mPath);
+    fs::create_directories(mPath);
+}
+
+ScratchDir::~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(mPath, ec);
+}
+
+CommandResult runCli(const std::string& args) {
+    const std::string command = std::string("\"") + STRATA_CLI_PATH + "\" " + args + " 2>&1";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    STRATA_CHECK(pipe != nullptr);
+    std::string output;
+    std::array<char, 4096> buffer{};
+    while (std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe)) output += buffer.data();
+    const int status = ::pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+void writeBytes(const fs::path& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out << bytes;
+}
+
+int countEntries(const fs::path& dir) {
+    if (!fs::exists(dir)) return 0;
+    int n = 0;
+    for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir)) ++n;
+    return n;
+}
+
+double maxAbsDiff(const Image& a, const Image& b) {
+    STRATA_CHECK_EQ(a.width(), b.width());
+    STRATA_CHECK_EQ(a.height(), b.height());
+    STRATA_CHECK_EQ(a.channels(), b.channels());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < a.pixels().size(); ++i)
+        worst = std::max(worst, static_cast<double>(std::fabs(a.pixels()[i] - b.pixels()[i])));
+    return worst;
+}
+
+} // namespace strata::test

@@ -1,0 +1,42 @@
+// Helpers shared by the test suites: scratch directories, running the CLI, writing small files.
+#pragma once
+
+#include "strata/image/image.h"
+
+#include <filesystem>
+#include <string>
+
+namespace strata::test {
+
+// A fresh empty directory under the system temp dir, removed when the object goes away.
+class ScratchDir {
+public:
+    explicit ScratchDir(const std::string& name);
+    ~ScratchDir();
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+    const std::filesystem::path& path() const { return mPath; }
+    std::filesystem::path operator/(const std::string& name) const { return mPath / name; }
+
+private:
+    std::filesystem::path mPath;
+};
+
+struct CommandResult {
+    int exitCode;
+    std::string output;  // stdout and stderr together
+};
+
+// Runs the built `strata` binary with the given argument string (shell-quoted by the caller).
+CommandResult runCli(const std::string& args);
+
+// Writes raw bytes to a file (for corrupt-file tests).
+void writeBytes(const std::filesystem::path& path, const std::string& bytes);
+
+// Number of entries in a directory (for "nothing was written" checks).
+int countEntries(const std::filesystem::path& dir);
+
+// Largest absolute difference between two images of the same shape (checked).
+double maxAbsDiff(const Image& a, const Image& b);
+
+} // namespace strata::test
