@@ -1,1 +1,42 @@
-int main() { return 0; }
+// strata: the command-line tool. Thin: it parses, calls the library, and reports.
+//
+// Exit codes (docs/cli.md):
+//   0 success, 1 command line (usage), 2 I/O (a file cannot be read or written),
+//   3 invalid input (content is wrong: corrupt image, bad material key, negative weight),
+//   4 runtime failure, 5 unsupported input (format variant, oversized image).
+#include "cli_common.h"
+
+#include "strata/core/error.h"
+#include "strata/core/version.h"
+
+#include <iostream>
+#include <new>
+
+int main(int argc, char** argv) {
+    CLI::App app{"strata: relief textures, meta-relief composition and texture-space ambient occlusion"};
+    app.set_version_flag("--version", std::string("strata ") + strata::kVersion);
+    app.require_subcommand(1);
+    app.footer("Exit codes: 0 ok, 1 usage, 2 I/O, 3 invalid input, 4 runtime, 5 unsupported. See docs/cli.md.");
+    strata::cli::addPatternCommand(app);
+    strata::cli::addImportCommand(app);
+    strata::cli::addComposeCommand(app);
+    strata::cli::addInfoCommand(app);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        // --help and --version are "errors" with exit code 0 to CLI11; everything else is usage.
+        const int code = app.exit(e);
+        return code == 0 ? 0 : strata::exitCode(strata::ErrorKind::Usage);
+    } catch (const strata::Error& e) {
+        std::cerr << "strata: error: " << e.what() << "\n";
+        return strata::exitCode(e.kind());
+    } catch (const std::bad_alloc&) {
+        std::cerr << "strata: error: out of memory\n";
+        return strata::exitCode(strata::ErrorKind::Runtime);
+    } catch (const std::exception& e) {
+        std::cerr << "strata: error: " << e.what() << "\n";
+        return strata::exitCode(strata::ErrorKind::Runtime);
+    }
+    return 0;
+}

@@ -107,6 +107,15 @@ Image luminance(const Image& image) {
     return out;
 }
 
+Image toRgb(const Image& image) {
+    Image out(image.width(), image.height(), 3);
+    const bool gray = image.channels() < 3;
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+            for (int c = 0; c < 3; ++c) out.at(x, y, c) = image.at(x, y, gray ? 0 : c);
+    return out;
+}
+
 Image extractChannel(const Image& image, int channel) {
     STRATA_CHECK_LT(channel, image.channels());
     Image out(image.width(), image.height(), 1);

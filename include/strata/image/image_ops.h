@@ -21,6 +21,9 @@ std::vector<Image> buildMipPyramid(const Image& image);
 // image, as a 1-channel image; a 1- or 2-channel image returns its first channel.
 Image luminance(const Image& image);
 
+// A 3-channel copy: gray (and gray+alpha) is replicated, alpha is dropped.
+Image toRgb(const Image& image);
+
 // One channel of an image, as a 1-channel image.
 Image extractChannel(const Image& image, int channel);
 

@@ -1,0 +1,82 @@
+// strata compose MATERIAL.json -o DIR [--resolution N] [--normals paper|consistent] [--bit-depth 8|16]
+#include "cli_common.h"
+
+#include "strata/compose/material.h"
+#include "strata/core/error.h"
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+
+namespace fs = std::filesystem;
+
+namespace strata::cli {
+
+namespace {
+
+struct ComposeOptions {
+    fs::path material;
+    fs::path output;
+    int resolution = 0;
+    std::string normals;
+    int bitDepth = 16;
+};
+
+void runCompose(const ComposeOptions& options) {
+    // Everything is parsed, read and composed before anything is written: a rejected material
+    // leaves no output at all.
+    Material material = readMaterial(options.material);
+    if (options.resolution > 0) material.compose.resolution = options.resolution;
+    if (!options.normals.empty()) material.compose.normals = parseNormalMode(options.normals);
+
+    progress("loading " + std::to_string(material.layers.size()) + " layers");
+    std::vector<std::string> notes;
+    const std::vector<CompositionLayer> layers = loadLayers(material, &notes);
+    for (const auto& text : notes) note(text);
+
+    progress("composing");
+    const Composition composition = compose(layers, material.compose);
+    for (const auto& text : composition.warnings) warn(text);
+
+    nlohmann::json source{{"kind", "meta-relief"},
+                          {"material", options.material.string()},
+                          {"normals", toString(material.compose.normals)},
+                          {"color_from", material.compose.colorFrom}};
+    for (std::size_t i = 0; i < material.layers.size(); ++i) {
+        const MaterialLayer& spec = material.layers[i];
+        nlohmann::json layer{{"tiling", spec.tiling}, {"weight_depth", spec.weightDepth}, {"weight_normal", spec.weightNormal}};
+        if (spec.pattern) {
+            layer["pattern"] = *spec.pattern;
+            layer["size"] = spec.patternParams.size;
+            layer["seed"] = spec.patternParams.seed;
+            layer["depth_scale"] = spec.patternParams.depthScale;
+        } else {
+            layer["file"] = (spec.depthFile ? *spec.depthFile : *spec.heightFile).string();
+        }
+        source["layers"].push_back(layer);
+    }
+
+    TextureSetWriteOptions write;
+    write.bitDepth = options.bitDepth;
+    write.normalSource = toString(material.compose.normals);
+    write.sourceJson = source.dump();
+    write.inputs = materialInputs(material);
+    reportWritten(options.output, writeTextureSet(options.output, composition.texture, write));
+}
+
+} // namespace
+
+void addComposeCommand(CLI::App& app) {
+    auto options = std::make_shared<ComposeOptions>();
+    CLI::App* command = app.add_subcommand("compose", "Compose a meta-relief material (JSON) into a texture set");
+    command->add_option("material", options->material, "Material file (docs/material.md)")->required();
+    command->add_option("-o,--output", options->output, "Output directory")->required();
+    command->add_option("--resolution", options->resolution, "Override the material's output resolution")
+        ->check(CLI::Range(1, Image::kMaxDimension));
+    command->add_option("--normals", options->normals, "Override the normal mode: paper (Eq. 1) or consistent")
+        ->check(CLI::IsMember({"paper", "consistent"}));
+    addBitDepthOption(*command, options->bitDepth);
+    command->callback([options] { runCompose(*options); });
+}
+
+} // namespace strata::cli

@@ -1,0 +1,77 @@
+// The meta-relief material file (JSON): a list of layers and how to combine them.
+// docs/material.md documents every key; examples/*.json are working materials.
+//
+//   { "resolution": 1024, "depth_scale": 0.08, "normals": "paper", "color_from": 1,
+//     "layers": [
+//       { "pattern": "base", "size": 1024, "seed": 1, "tiling": 1.0, "weight_depth": 1.0, "weight_normal": 1.0 },
+//       { "depth": "fabric_depth.png", "normal": "fabric_normal.png", "color": "fabric.png",
+//         "tiling": 5.5, "weight_depth": 0.3, "weight_normal": 0.3 } ] }
+//
+// A layer is either a built-in pattern ("pattern", with "size", "seed", "depth_scale" defaulting to the
+// pattern defaults of PatternParams, so the layer equals `strata pattern NAME` with the same flags) or
+// files ("depth" or "height", optional "normal" with "normal_y": "up" | "down", optional "color").
+// Paths are relative to the material file. A file layer without a normal map gets normals derived
+// from its depth at the material's depth_scale.
+//
+// Parsing is strict: an unknown key, a wrong type, a value out of range, a missing file, both or
+// neither of "depth"/"height", or a layer with both "pattern" and files throws Error(InvalidInput)
+// (Error(Io) for a missing file) whose message is "<file>: <key path>: <what is wrong>", e.g.
+// "shaped.json: layers[1].weight_depth: must be >= 0, got -0.3". Nothing is written for a rejected
+// material: callers load everything before writing anything.
+#pragma once
+
+#include "strata/compose/compose.h"
+#include "strata/relief/patterns.h"
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace strata {
+
+struct MaterialLayer {
+    std::string name;                      // optional label ("name"), used in messages
+    // Pattern layer.
+    std::optional<std::string> pattern;    // "pattern": a name from patternList()
+    PatternParams patternParams;           // "size", "seed", "depth_scale"
+    // File layer (paths already resolved against the material's directory).
+    std::optional<std::filesystem::path> depthFile;   // "depth": d in [0, 1], 0 = top
+    std::optional<std::filesystem::path> heightFile;  // "height": white = high, d = 1 - h
+    std::optional<std::filesystem::path> normalFile;  // "normal"
+    bool normalYDown = false;                         // "normal_y": "up" (OpenGL, default) | "down" (DirectX)
+    std::optional<double> fileDepthScale;             // "depth_scale": the S the layer's normal map was made for
+    std::optional<std::filesystem::path> colorFile;   // "color"
+    // Combination (paper Eq. 1, 2).
+    double tiling = 1.0;        // "tiling": > 0
+    double weightDepth = 1.0;   // "weight_depth": >= 0
+    double weightNormal = 1.0;  // "weight_normal": >= 0
+};
+
+struct Material {
+    std::filesystem::path source;  // the material file, for messages
+    ComposeParams compose;         // "resolution", "depth_scale", "normals", "color_from"
+    std::vector<MaterialLayer> layers;
+    // Keys later issues add ("ao", "ao_method") are parsed and checked elsewhere; this list says
+    // which top-level keys are allowed at all.
+};
+
+// Parses and validates a material document. `source` names it in messages and its directory
+// resolves relative paths. Files are checked for existence here; they are read by loadLayers.
+Material parseMaterial(const nlohmann::json& document, const std::filesystem::path& source);
+
+// Reads and parses a material file. Throws Error(Io) if it cannot be read and Error(InvalidInput)
+// with the line and column for malformed JSON.
+Material readMaterial(const std::filesystem::path& path);
+
+// Builds every layer's maps: generates patterns, reads files (RGB depth/height maps through their
+// luminance; such notes are appended to `notes`). Throws on unreadable or invalid files.
+std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<std::string>* notes = nullptr);
+
+// All input files a material reads (for the never-overwrite-an-input check).
+std::vector<std::filesystem::path> materialInputs(const Material& material);
+
+} // namespace strata

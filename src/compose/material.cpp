@@ -1,0 +1,270 @@
+#include "strata/compose/material.h"
+
+#include "strata/core/error.h"
+#include "strata/core/file.h"
+#include "strata/image/image_io.h"
+#include "strata/image/image_ops.h"
+#include "strata/relief/relief_texture.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace strata {
+
+namespace {
+
+// Reads typed values from a JSON object, naming "<file>: <path>.<key>" in every error, and
+// rejecting keys it was never asked about.
+class ObjectReader {
+public:
+    ObjectReader(const json& object, std::string where, std::string file)
+        : mObject(object), mWhere(std::move(where)), mFile(std::move(file)) {
+        if (!mObject.is_object()) fail(mWhere, std::string("must be a JSON object, got ") + mObject.type_name());
+    }
+
+    [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+        throw Error(ErrorKind::InvalidInput, mFile + ": " + key + ": " + what);
+    }
+    std::string keyPath(const std::string& key) const { return mWhere.empty() ? key : mWhere + "." + key; }
+    bool has(const std::string& key) const { return mObject.contains(key); }
+
+    std::optional<double> number(const std::string& key) {
+        const json* value = find(key);
+        if (!value) return std::nullopt;
+        if (!value->is_number()) fail(keyPath(key), std::string("must be a number, got ") + value->type_name());
+        const double number = value->get<double>();
+        if (!std::isfinite(number)) fail(keyPath(key), "must be a finite number");
+        return number;
+    }
+
+    std::optional<long long> integer(const std::string& key, long long min, long long max) {
+        const json* value = find(key);
+        if (!value) return std::nullopt;
+        if (!value->is_number_integer())
+            fail(keyPath(key), std::string("must be an integer, got ") + (value->is_number() ? value->dump() : value->type_name()));
+        const auto number = value->get<long long>();
+        if (number < min || number > max)
+            fail(keyPath(key), "must be in [" + std::to_string(min) + ", " + std::to_string(max) + "], got " + std::to_string(number));
+        return number;
+    }
+
+    std::optional<std::string> string(const std::string& key) {
+        const json* value = find(key);
+        if (!value) return std::nullopt;
+        if (!value->is_string()) fail(keyPath(key), std::string("must be a string, got ") + value->type_name());
+        return value->get<std::string>();
+    }
+
+    const json* array(const std::string& key) {
+        const json* value = find(key);
+        if (value && !value->is_array()) fail(keyPath(key), std::string("must be an array, got ") + value->type_name());
+        return value;
+    }
+
+    // Call after reading every known key: any other key is an error (a typo must not pass silently).
+    void rejectUnknown(const std::set<std::string>& alsoAllowed = {}) const {
+        for (const auto& [key, value] : mObject.items())
+            if (!mSeen.count(key) && !alsoAllowed.count(key)) fail(keyPath(key), "unknown key");
+    }
+
+private:
+    const json* find(const std::string& key) {
+        mSeen.insert(key);
+        const auto it = mObject.find(key);
+        return it == mObject.end() ? nullptr : &*it;
+    }
+
+    const json& mObject;
+    std::string mWhere;
+    std::string mFile;
+    std::set<std::string> mSeen;
+};
+
+std::string formatNumber(double value) {
+    std::ostringstream out;
+    out << value;
+    return out.str();
+}
+
+MaterialLayer parseLayer(const json& object, const std::string& where, const std::string& file, const fs::path& baseDir) {
+    ObjectReader reader(object, where, file);
+    MaterialLayer layer;
+    layer.name = reader.string("name").value_or("");
+    layer.pattern = reader.string("pattern");
+
+    auto existingFile = [&](const std::string& key) -> std::optional<fs::path> {
+        const auto relative = reader.string(key);
+        if (!relative) return std::nullopt;
+        if (relative->empty()) reader.fail(reader.keyPath(key), "must not be empty");
+        const fs::path path = baseDir / *relative;
+        std::error_code ec;
+        if (!fs::is_regular_file(path, ec))
+            throw Error(ErrorKind::Io, file + ": " + reader.keyPath(key) + ": no such file: " + path.string());
+        return path;
+    };
+
+    const bool patternLayer = layer.pattern.has_value();
+    if (patternLayer) {
+        if (!isPattern(*layer.pattern)) {
+            std::string known;
+            for (const auto& info : patternList()) known += (known.empty() ? "" : ", ") + info.name;
+            reader.fail(reader.keyPath("pattern"), "unknown pattern \"" + *layer.pattern + "\" (known: " + known + ")");
+        }
+        const PatternParams defaults;
+        layer.patternParams.size = static_cast<int>(reader.integer("size", kMinPatternSize, kMaxPatternSize).value_or(defaults.size));
+        layer.patternParams.seed = static_cast<std::uint32_t>(
+            reader.integer("seed", 0, std::numeric_limits<std::uint32_t>::max()).value_or(defaults.seed));
+        layer.patternParams.depthScale = reader.number("depth_scale").value_or(defaults.depthScale);
+        if (!(layer.patternParams.depthScale > 0.0))
+            reader.fail(reader.keyPath("depth_scale"), "must be > 0, got " + formatNumber(layer.patternParams.depthScale));
+        for (const char* fileKey : {"depth", "height", "normal", "normal_y", "color"})
+            if (reader.has(fileKey))
+                reader.fail(reader.keyPath(fileKey), "a layer uses either \"pattern\" or files, not both");
+    } else {
+        for (const char* patternKey : {"size", "seed"})
+            if (reader.has(patternKey))
+                reader.fail(reader.keyPath(patternKey), "only a \"pattern\" layer takes this key");
+        layer.depthFile = existingFile("depth");
+        layer.heightFile = existingFile("height");
+        if (layer.depthFile && layer.heightFile)
+            reader.fail(where, "give either \"depth\" or \"height\", not both");
+        if (!layer.depthFile && !layer.heightFile)
+            reader.fail(where, "needs \"pattern\", or a \"depth\" or \"height\" file");
+        layer.normalFile = existingFile("normal");
+        const std::string normalY = reader.string("normal_y").value_or("up");
+        if (normalY != "up" && normalY != "down")
+            reader.fail(reader.keyPath("normal_y"), "must be \"up\" (OpenGL) or \"down\" (DirectX), got \"" + normalY + "\"");
+        if (reader.has("normal_y") && !layer.normalFile) reader.fail(reader.keyPath("normal_y"), "given without \"normal\"");
+        layer.normalYDown = normalY == "down";
+        layer.fileDepthScale = reader.number("depth_scale");
+        if (layer.fileDepthScale && !(*layer.fileDepthScale > 0.0))
+            reader.fail(reader.keyPath("depth_scale"), "must be > 0, got " + formatNumber(*layer.fileDepthScale));
+        layer.colorFile = existingFile("color");
+    }
+
+    layer.tiling = reader.number("tiling").value_or(1.0);
+    if (!(layer.tiling > 0.0)) reader.fail(reader.keyPath("tiling"), "must be > 0, got " + formatNumber(layer.tiling));
+    layer.weightDepth = reader.number("weight_depth").value_or(1.0);
+    if (layer.weightDepth < 0.0) reader.fail(reader.keyPath("weight_depth"), "must be >= 0, got " + formatNumber(layer.weightDepth));
+    layer.weightNormal = reader.number("weight_normal").value_or(1.0);
+    if (layer.weightNormal < 0.0) reader.fail(reader.keyPath("weight_normal"), "must be >= 0, got " + formatNumber(layer.weightNormal));
+    reader.rejectUnknown();
+    return layer;
+}
+
+} // namespace
+
+Material parseMaterial(const json& document, const fs::path& source) {
+    const std::string file = source.string();
+    const fs::path baseDir = source.has_parent_path() ? source.parent_path() : fs::path(".");
+    ObjectReader reader(document, "", file);
+    Material material;
+    material.source = source;
+    material.compose.resolution = static_cast<int>(reader.integer("resolution", 1, Image::kMaxDimension).value_or(0));
+    material.compose.depthScale = reader.number("depth_scale").value_or(kDefaultDepthScale);
+    if (!(material.compose.depthScale > 0.0))
+        reader.fail("depth_scale", "must be > 0, got " + formatNumber(material.compose.depthScale));
+    if (const auto normals = reader.string("normals")) {
+        if (*normals != "paper" && *normals != "consistent")
+            reader.fail("normals", "must be \"paper\" or \"consistent\", got \"" + *normals + "\"");
+        material.compose.normals = parseNormalMode(*normals);
+    }
+    reader.string("name");         // free text
+    reader.string("description");  // free text
+
+    const json* layers = reader.array("layers");
+    if (!layers) reader.fail("layers", "missing: a material needs a \"layers\" array");
+    if (layers->empty()) reader.fail("layers", "must hold at least one layer");
+    for (std::size_t i = 0; i < layers->size(); ++i)
+        material.layers.push_back(parseLayer((*layers)[i], "layers[" + std::to_string(i) + "]", file, baseDir));
+
+    // color_from: default the first layer that has colour (every pattern has colour).
+    int defaultColor = -1;
+    for (std::size_t i = 0; i < material.layers.size() && defaultColor < 0; ++i)
+        if (material.layers[i].pattern || material.layers[i].colorFile) defaultColor = static_cast<int>(i);
+    const auto colorFrom = reader.integer("color_from", -1, static_cast<long long>(material.layers.size()) - 1);
+    material.compose.colorFrom = colorFrom ? static_cast<int>(*colorFrom) : defaultColor;
+    if (material.compose.colorFrom >= 0) {
+        const MaterialLayer& chosen = material.layers[material.compose.colorFrom];
+        if (!chosen.pattern && !chosen.colorFile)
+            reader.fail("color_from", "layers[" + std::to_string(material.compose.colorFrom) + "] has no \"color\" file");
+    }
+
+    // Later issues add the AO keys; until they land they are refused like any other unknown key.
+    reader.rejectUnknown();
+
+    double sumDepth = 0.0;
+    double sumNormal = 0.0;
+    for (const auto& layer : material.layers) {
+        sumDepth += layer.weightDepth;
+        sumNormal += layer.weightNormal;
+    }
+    if (!(sumDepth > 0.0)) reader.fail("layers", "the weight_depth values sum to 0: at least one must be > 0");
+    if (!(sumNormal > 0.0)) reader.fail("layers", "the weight_normal values sum to 0: at least one must be > 0");
+    return material;
+}
+
+Material readMaterial(const fs::path& path) {
+    const std::string text = readTextFile(path);
+    json document;
+    try {
+        document = json::parse(text);
+    } catch (const json::parse_error& e) {
+        throw Error(ErrorKind::InvalidInput, path.string() + ": not valid JSON: " + e.what());
+    }
+    return parseMaterial(document, path);
+}
+
+std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<std::string>* notes) {
+    std::vector<CompositionLayer> layers;
+    for (std::size_t i = 0; i < material.layers.size(); ++i) {
+        const MaterialLayer& spec = material.layers[i];
+        CompositionLayer layer;
+        layer.label = "layers[" + std::to_string(i) + "]";
+        if (!spec.name.empty()) layer.label += " (" + spec.name + ")";
+        else if (spec.pattern) layer.label += " (" + *spec.pattern + ")";
+        layer.tiling = spec.tiling;
+        layer.weightDepth = spec.weightDepth;
+        layer.weightNormal = spec.weightNormal;
+        if (spec.pattern) {
+            layer.texture = makePattern(*spec.pattern, spec.patternParams);
+        } else {
+            std::string note;
+            if (spec.depthFile) {
+                layer.texture.depth = readScalarMap(*spec.depthFile, &note);
+            } else {
+                layer.texture.depth = heightToDepth(readScalarMap(*spec.heightFile, &note));
+            }
+            if (!note.empty() && notes) notes->push_back(note);
+            layer.texture.depthScale = spec.fileDepthScale.value_or(material.compose.depthScale);
+            if (spec.normalFile) {
+                const Image encoded = readImage(*spec.normalFile);
+                if (encoded.channels() < 3)
+                    throw Error(ErrorKind::InvalidInput, spec.normalFile->string() + ": a normal map needs 3 channels (RGB), it has " +
+                                                             std::to_string(encoded.channels()));
+                layer.texture.normal = decodeNormals(encoded, spec.normalYDown);
+            } else {
+                layer.texture.normal = normalsFromDepth(layer.texture.depth, layer.texture.depthScale);
+            }
+            if (spec.colorFile) layer.texture.color = toRgb(readImage(*spec.colorFile));
+        }
+        layers.push_back(std::move(layer));
+    }
+    return layers;
+}
+
+std::vector<fs::path> materialInputs(const Material& material) {
+    std::vector<fs::path> inputs{material.source};
+    for (const auto& layer : material.layers)
+        for (const auto& file : {layer.depthFile, layer.heightFile, layer.normalFile, layer.colorFile})
+            if (file) inputs.push_back(*file);
+    return inputs;
+}
+
+} // namespace strata

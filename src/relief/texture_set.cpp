@@ -1,0 +1,228 @@
+#include "strata/relief/texture_set.h"
+
+#include "strata/core/error.h"
+#include "strata/core/file.h"
+#include "strata/core/version.h"
+#include "strata/image/image_io.h"
+#include "strata/image/image_ops.h"
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <cmath>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace strata {
+
+namespace {
+
+json sizeOf(const Image& image) { return json::array({image.width(), image.height()}); }
+
+// Normals at another resolution: resample each component and renormalise.
+Image resampleNormals(const Image& normals, int width, int height) {
+    Image out = resample(normals, width, height);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            float* n = &out.at(x, y);
+            const float length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            if (length > 0.0f)
+                for (int c = 0; c < 3; ++c) n[c] /= length;
+        }
+    return out;
+}
+
+// The nearest directory at or above `dir`'s parent that exists: staging there keeps the final
+// renames on one file system without creating any directory before the set is complete.
+fs::path existingAncestor(const fs::path& dir) {
+    std::error_code ec;
+    fs::path parent = fs::absolute(dir, ec).parent_path();
+    while (!parent.empty() && !fs::is_directory(parent, ec) && parent != parent.parent_path()) parent = parent.parent_path();
+    return parent.empty() ? fs::path(".") : parent;
+}
+
+// A staging directory for `dir`'s files, removed with everything in it on destruction.
+class StagingDir {
+public:
+    explicit StagingDir(const fs::path& dir) {
+        static std::atomic<unsigned> counter{0};
+        std::string name = ".";
+        name += dir.filename().string();
+        name += ".staging" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+        mPath = existingAncestor(dir) / name;
+        std::error_code ec;
+        fs::create_directories(mPath, ec);
+        if (ec) throw Error(ErrorKind::Io, dir.string() + ": cannot create a staging directory beside it: " + ec.message());
+    }
+    ~StagingDir() {
+        std::error_code ec;
+        fs::remove_all(mPath, ec);
+    }
+    StagingDir(const StagingDir&) = delete;
+    StagingDir& operator=(const StagingDir&) = delete;
+    const fs::path& path() const { return mPath; }
+
+private:
+    fs::path mPath;
+};
+
+} // namespace
+
+Image packRelief(const ReliefTexture& texture) {
+    const int width = texture.depth.width();
+    const int height = texture.depth.height();
+    const Image normals = texture.normal.width() == width && texture.normal.height() == height
+                              ? texture.normal
+                              : resampleNormals(texture.normal, width, height);
+    const bool hasAo = !texture.ao.empty();
+    const Image ao = !hasAo || (texture.ao.width() == width && texture.ao.height() == height)
+                         ? texture.ao
+                         : resample(texture.ao, width, height);
+    Image packed(width, height, 4);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            packed.at(x, y, 0) = normals.at(x, y, 0) * 0.5f + 0.5f;
+            packed.at(x, y, 1) = normals.at(x, y, 1) * 0.5f + 0.5f;
+            packed.at(x, y, 2) = hasAo ? ao.at(x, y) : 1.0f;
+            packed.at(x, y, 3) = texture.depth.at(x, y);
+        }
+    return packed;
+}
+
+std::vector<fs::path> writeTextureSet(const fs::path& dir, const ReliefTexture& texture,
+                                      const TextureSetWriteOptions& options) {
+    if (options.bitDepth != 8 && options.bitDepth != 16)
+        throw Error(ErrorKind::InvalidInput, "bit depth must be 8 or 16, got " + std::to_string(options.bitDepth));
+    if (texture.depth.empty() || texture.normal.empty())
+        throw Error(ErrorKind::InvalidInput, dir.string() + ": a texture set needs depth and normal maps");
+    if (!texture.ao.empty() && !options.ao)
+        throw Error(ErrorKind::InvalidInput, dir.string() + ": the AO map needs its record (radius, definition)");
+
+    std::error_code ec;
+    if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+        throw Error(ErrorKind::Io, dir.string() + ": exists and is not a directory");
+
+    const PngWriteOptions data{options.bitDepth == 8 ? PngBitDepth::Eight : PngBitDepth::Sixteen, true};
+    const PngWriteOptions colour{PngBitDepth::Eight, true};
+
+    json sidecar;
+    sidecar["format"] = kSidecarFormat;
+    sidecar["format_version"] = 1;
+    sidecar["tool"] = std::string("strata ") + kVersion;
+    sidecar["depth_scale"] = texture.depthScale;
+    sidecar["bit_depth"] = options.bitDepth;
+    sidecar["texture_space"] = "u along +x (tangent), v along +y (bitangent); file row 0 is v = 1; tiles toroidally";
+    sidecar["depth"] = {{"file", "depth.png"},
+                        {"encoding", "depth"},
+                        {"meaning", "0 = polygon surface (top), 1 = deepest; relief point (u, v, -S * d)"},
+                        {"size", sizeOf(texture.depth)}};
+    sidecar["normal"] = {{"file", "normal.png"},
+                         {"convention", "opengl"},
+                         {"green", "up (+y towards v = 1)"},
+                         {"encoding", "n * 0.5 + 0.5"},
+                         {"source", options.normalSource},
+                         {"valid_for_depth_scale", texture.depthScale},
+                         {"size", sizeOf(texture.normal)}};
+    sidecar["color"] = texture.color.empty()
+                           ? json(nullptr)
+                           : json{{"file", "color.png"}, {"encoding", "sRGB"}, {"bit_depth", 8}, {"size", sizeOf(texture.color)}};
+    if (texture.ao.empty()) {
+        sidecar["ao"] = nullptr;
+    } else {
+        sidecar["ao"] = {{"file", "ao.png"},
+                         {"radius", options.ao->radius},
+                         {"definition", options.ao->definition},
+                         {"method", options.ao->method},
+                         {"directions", options.ao->directions},
+                         {"baked_at_depth_scale", texture.depthScale},
+                         {"size", sizeOf(texture.ao)}};
+    }
+    sidecar["packed"] = {{"file", "packed.png"},
+                         {"layout", "R = nx * 0.5 + 0.5, G = ny * 0.5 + 0.5, B = AO, A = depth; nz = sqrt(1 - nx^2 - ny^2)"},
+                         {"ao_channel", texture.ao.empty() ? "no AO map: 1.0 (fully open)" : "ao.png"},
+                         {"size", sizeOf(texture.depth)}};
+    try {
+        sidecar["source"] = json::parse(options.sourceJson);
+    } catch (const json::exception&) {
+        sidecar["source"] = options.sourceJson;
+    }
+
+    // Everything is written into the staging directory first, so any failure leaves `dir` untouched
+    // (and uncreated, if it did not exist).
+    std::vector<std::string> names;
+    StagingDir staging(dir);
+    auto stage = [&](const std::string& name, const Image& image, const PngWriteOptions& png) {
+        refuseToOverwriteInputs(dir / name, options.inputs);
+        writePng(staging.path() / name, image, png);
+        names.push_back(name);
+    };
+    stage("depth.png", texture.depth, data);
+    stage("normal.png", encodeNormals(texture.normal), data);
+    if (!texture.color.empty()) stage("color.png", texture.color, colour);
+    if (!texture.ao.empty()) stage("ao.png", texture.ao, data);
+    stage("packed.png", packRelief(texture), data);
+    refuseToOverwriteInputs(dir / kSidecarName, options.inputs);
+    writeTextFileAtomic(staging.path() / kSidecarName, sidecar.dump(2) + "\n");
+    names.emplace_back(kSidecarName);
+
+    // The sidecar moves in last: it is what says which maps belong to the set, so files in `dir`
+    // that this set does not name (an older colour map, a user's own file) are left alone.
+    fs::create_directories(dir, ec);
+    if (ec) throw Error(ErrorKind::Io, dir.string() + ": cannot create the output directory: " + ec.message());
+    std::vector<fs::path> written;
+    for (const std::string& name : names) {
+        fs::rename(staging.path() / name, dir / name, ec);
+        if (ec) throw Error(ErrorKind::Io, (dir / name).string() + ": cannot move into place: " + ec.message());
+        written.push_back(dir / name);
+    }
+    return written;
+}
+
+json readSidecar(const fs::path& path) {
+    const fs::path file = fs::is_directory(path) ? path / kSidecarName : path;
+    const std::string text = readTextFile(file);
+    json sidecar;
+    try {
+        sidecar = json::parse(text);
+    } catch (const json::parse_error& e) {
+        throw Error(ErrorKind::InvalidInput, file.string() + ": not valid JSON: " + e.what());
+    }
+    if (!sidecar.is_object() || sidecar.value("format", "") != kSidecarFormat)
+        throw Error(ErrorKind::InvalidInput,
+                    file.string() + ": not a Strata texture-set sidecar (\"format\" is not \"" + kSidecarFormat + "\")");
+    return sidecar;
+}
+
+ReliefTexture readTextureSet(const fs::path& path) {
+    const fs::path dir = fs::is_directory(path) ? path : path.parent_path();
+    const json sidecar = readSidecar(path);
+    const fs::path sidecarPath = dir / kSidecarName;
+    auto fileOf = [&](const char* key) -> std::optional<fs::path> {
+        const auto it = sidecar.find(key);
+        if (it == sidecar.end() || it->is_null()) return std::nullopt;
+        if (!it->is_object() || !it->contains("file") || !(*it)["file"].is_string())
+            throw Error(ErrorKind::InvalidInput, sidecarPath.string() + ": \"" + key + "\" has no \"file\" string");
+        return dir / (*it)["file"].get<std::string>();
+    };
+    ReliefTexture texture;
+    try {
+        texture.depthScale = sidecar.at("depth_scale").get<double>();
+    } catch (const json::exception&) {
+        throw Error(ErrorKind::InvalidInput, sidecarPath.string() + ": \"depth_scale\" is missing or not a number");
+    }
+    const auto depthFile = fileOf("depth");
+    const auto normalFile = fileOf("normal");
+    if (!depthFile || !normalFile)
+        throw Error(ErrorKind::InvalidInput, sidecarPath.string() + ": a texture set needs \"depth\" and \"normal\"");
+    texture.depth = readScalarMap(*depthFile);
+    texture.normal = decodeNormals(readImage(*normalFile));
+    if (const auto colorFile = fileOf("color")) {
+        texture.color = toRgb(readImage(*colorFile));
+    }
+    if (const auto aoFile = fileOf("ao")) texture.ao = readScalarMap(*aoFile);
+    return texture;
+}
+
+} // namespace strata
