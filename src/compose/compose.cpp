@@ -3,6 +3,7 @@
 #include "strata/core/check.h"
 #include "strata/core/error.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -112,19 +113,32 @@ struct SampledMap {
           columns(axisTaps(outSize, map.width(), tiling, false)),
           rows(axisTaps(outSize, map.height(), tiling, true)) {}
 
-    // Bilinear sample at output texel (x, y), all channels into out.
-    void sample(int x, int y, float* out) const {
-        const int channels = image->channels();
+    // Adds weight * (bilinear sample at output texel (x, y)) to dst[x * C + c] for a whole output
+    // row. C is the map's channel count, fixed at compile time so the inner loop unrolls.
+    template <int C>
+    void accumulateRow(int y, float weight, float* dst) const {
         const float* r0 = image->row(rows.i0[y]);
         const float* r1 = image->row(rows.i1[y]);
-        const int c0 = columns.i0[x] * channels;
-        const int c1 = columns.i1[x] * channels;
-        const float tx = columns.t[x];
         const float ty = rows.t[y];
-        for (int c = 0; c < channels; ++c) {
-            const float top = r0[c0 + c] + tx * (r0[c1 + c] - r0[c0 + c]);
-            const float bottom = r1[c0 + c] + tx * (r1[c1 + c] - r1[c0 + c]);
-            out[c] = top + ty * (bottom - top);
+        const int width = static_cast<int>(columns.t.size());
+        for (int x = 0; x < width; ++x) {
+            const int c0 = columns.i0[x] * C;
+            const int c1 = columns.i1[x] * C;
+            const float tx = columns.t[x];
+            for (int c = 0; c < C; ++c) {
+                const float top = r0[c0 + c] + tx * (r0[c1 + c] - r0[c0 + c]);
+                const float bottom = r1[c0 + c] + tx * (r1[c1 + c] - r1[c0 + c]);
+                dst[x * C + c] += weight * (top + ty * (bottom - top));
+            }
+        }
+    }
+
+    void accumulateRow(int y, float weight, float* dst) const {
+        switch (image->channels()) {
+        case 1: accumulateRow<1>(y, weight, dst); break;
+        case 2: accumulateRow<2>(y, weight, dst); break;
+        case 3: accumulateRow<3>(y, weight, dst); break;
+        default: accumulateRow<4>(y, weight, dst); break;
         }
     }
 };
@@ -133,9 +147,26 @@ bool isInteger(double value) { return std::fabs(value - std::round(value)) < 1e-
 
 } // namespace
 
+namespace {
+
+// Makes `image` width x height x channels, keeping its memory if it already has that shape.
+// The contents are left as they are: the caller overwrites every value.
+void reshape(Image& image, int width, int height, int channels) {
+    if (image.width() != width || image.height() != height || image.channels() != channels)
+        image = Image::uninitialized(width, height, channels);
+}
+
+} // namespace
+
 Composition compose(std::span<const CompositionLayer> layers, const ComposeParams& params) {
-    validate(layers, params);
     Composition result;
+    composeInto(layers, params, result);
+    return result;
+}
+
+void composeInto(std::span<const CompositionLayer> layers, const ComposeParams& params, Composition& result) {
+    validate(layers, params);
+    result.warnings.clear();
 
     int size = params.resolution;
     if (size == 0)
@@ -186,62 +217,62 @@ Composition compose(std::span<const CompositionLayer> layers, const ComposeParam
 
     ReliefTexture& out = result.texture;
     out.depthScale = params.depthScale;
-    out.depth = Image(size, size, 1);
-    out.normal = Image(size, size, 3);
+    out.ao = Image();
+    reshape(out.depth, size, size, 1);
+    reshape(out.normal, size, size, 3);
     const auto s = static_cast<float>(params.depthScale);
 
-    tbb::parallel_for(0, size, [&](int y) {
-        float* depthRow = out.depth.row(y);
-        float* normalRow = out.normal.row(y);
-        for (int x = 0; x < size; ++x) {
-            float depth = 0.0f;
-            float n[3] = {0.0f, 0.0f, 0.0f};
-            float g[2] = {0.0f, 0.0f};
+    // Row by row, layer by layer: each layer's row taps are fetched once per row, and the inner
+    // loops have no per-texel branching.
+    tbb::parallel_for(tbb::blocked_range<int>(0, size), [&](const tbb::blocked_range<int>& range) {
+        std::vector<float> gradientRow(2 * static_cast<std::size_t>(size));
+        for (int y = range.begin(); y < range.end(); ++y) {
+            float* depthRow = out.depth.row(y);
+            float* normalRow = out.normal.row(y);
+            std::fill(depthRow, depthRow + size, 0.0f);
+            std::fill(normalRow, normalRow + 3 * size, 0.0f);
+            std::fill(gradientRow.begin(), gradientRow.end(), 0.0f);
             for (const LayerPlan& plan : plans) {
-                float value[3];
-                plan.depth.sample(x, y, value);
-                // A lone layer keeps its values bit for bit: its w / sum w is exactly 1.
-                depth += plan.depthWeight * value[0];
-                if (plan.normal) {
-                    plan.normal->sample(x, y, value);
-                    for (int c = 0; c < 3; ++c) n[c] += plan.normalWeight * value[c];
+                // A lone layer keeps its values bit for bit: its w / sum w is exactly 1, and 0 + 1 * v = v.
+                if (plan.depthWeight > 0.0f) plan.depth.accumulateRow<1>(y, plan.depthWeight, depthRow);
+                if (plan.normal) plan.normal->accumulateRow<3>(y, plan.normalWeight, normalRow);
+                if (plan.gradient) plan.gradient->accumulateRow<2>(y, plan.gradientScale, gradientRow.data());
+            }
+            for (int x = 0; x < size; ++x) {
+                float* n = normalRow + 3 * x;
+                if (params.normals == NormalMode::Consistent) {
+                    // CONVENTIONS §3: n = normalize(S dD/du, S dD/dv, 1).
+                    n[0] = s * gradientRow[2 * x];
+                    n[1] = s * gradientRow[2 * x + 1];
+                    n[2] = 1.0f;
                 }
-                if (plan.gradient) {
-                    plan.gradient->sample(x, y, value);
-                    g[0] += plan.gradientScale * value[0];
-                    g[1] += plan.gradientScale * value[1];
+                const float length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+                // Opposite normals can cancel in Eq. 1; fall back to the plane's normal there. A vector
+                // already unit to far below 16-bit quantisation (1.5e-5) is kept as is, so that a lone
+                // layer's normals come out bit for bit.
+                if (!(length > 1e-12f)) {
+                    n[0] = n[1] = 0.0f;
+                    n[2] = 1.0f;
+                } else if (std::fabs(length - 1.0f) > 1e-6f) {
+                    for (int c = 0; c < 3; ++c) n[c] /= length;
                 }
             }
-            depthRow[x] = depth;
-            if (params.normals == NormalMode::Consistent) {
-                // CONVENTIONS §3: n = normalize(S dD/du, S dD/dv, 1).
-                n[0] = s * g[0];
-                n[1] = s * g[1];
-                n[2] = 1.0f;
-            }
-            const float length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-            // Opposite normals can cancel in Eq. 1; fall back to the plane's normal there. A vector
-            // already unit to far below 16-bit quantisation (1.5e-5) is kept as is, so that a lone
-            // layer's normals come out bit for bit.
-            if (!(length > 1e-12f)) {
-                n[0] = n[1] = 0.0f;
-                n[2] = 1.0f;
-            } else if (std::fabs(length - 1.0f) > 1e-6f) {
-                for (float& component : n) component /= length;
-            }
-            for (int c = 0; c < 3; ++c) normalRow[3 * x + c] = n[c];
         }
     });
 
     if (params.colorFrom >= 0) {
         const CompositionLayer& layer = layers[params.colorFrom];
         const SampledMap color(layer.texture.color, size, layer.tiling);
-        out.color = Image(size, size, layer.texture.color.channels());
+        const int channels = layer.texture.color.channels();
+        reshape(out.color, size, size, channels);
         tbb::parallel_for(0, size, [&](int y) {
-            for (int x = 0; x < size; ++x) color.sample(x, y, &out.color.at(x, y));
+            float* row = out.color.row(y);
+            std::fill(row, row + channels * size, 0.0f);
+            color.accumulateRow(y, 1.0f, row);
         });
+    } else {
+        out.color = Image();
     }
-    return result;
 }
 
 AngleStats angleBetween(const Image& a, const Image& b) {

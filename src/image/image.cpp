@@ -2,11 +2,12 @@
 
 #include "strata/core/check.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace strata {
 
-Image::Image(int width, int height, int channels, float fill)
+Image::Image(int width, int height, int channels, UninitializedTag)
     : mWidth(width), mHeight(height), mChannels(channels) {
     STRATA_CHECK_GE(width, 1);
     STRATA_CHECK_GE(height, 1);
@@ -14,7 +15,16 @@ Image::Image(int width, int height, int channels, float fill)
     STRATA_CHECK_LE(height, kMaxDimension);
     STRATA_CHECK_GE(channels, 1);
     STRATA_CHECK_LE(channels, 4);
-    mPixels.assign(static_cast<std::size_t>(width) * height * channels, fill);
+    mPixels.resize(static_cast<std::size_t>(width) * height * channels);
+}
+
+Image::Image(int width, int height, int channels, float fill)
+    : Image(width, height, channels, UninitializedTag{}) {
+    std::fill(mPixels.begin(), mPixels.end(), fill);
+}
+
+Image Image::uninitialized(int width, int height, int channels) {
+    return Image(width, height, channels, UninitializedTag{});
 }
 
 void Image::sampleTexel(double x, double y, float* out) const {

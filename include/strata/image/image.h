@@ -13,7 +13,10 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
+#include <new>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace strata {
@@ -29,6 +32,10 @@ public:
     // Dimensions must be in [1, kMaxDimension] (checked: a violation is a bug in the caller;
     // readers validate file dimensions and throw strata::Error first).
     Image(int width, int height, int channels, float fill = 0.0f);
+
+    // An image whose values are unspecified, for code that overwrites every value anyway (in
+    // parallel): it skips the serial fill, so the memory is first touched where it is written.
+    static Image uninitialized(int width, int height, int channels);
 
     int width() const { return mWidth; }
     int height() const { return mHeight; }
@@ -69,6 +76,28 @@ public:
     }
 
 private:
+    // Leaves new elements default-initialised (for float: unset) unless a value is given, so that
+    // uninitialized() costs no pass over the memory.
+    template <typename T>
+    struct DefaultInitAllocator : std::allocator<T> {
+        template <typename U>
+        struct rebind {
+            using other = DefaultInitAllocator<U>;
+        };
+        using std::allocator<T>::allocator;
+        template <typename U>
+        void construct(U* p) noexcept {
+            ::new (static_cast<void*>(p)) U;
+        }
+        template <typename U, typename... Args>
+        void construct(U* p, Args&&... args) {
+            ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+        }
+    };
+
+    struct UninitializedTag {};
+    Image(int width, int height, int channels, UninitializedTag);
+
     std::size_t index(int x, int y) const {
         return (static_cast<std::size_t>(y) * mWidth + x) * mChannels;
     }
@@ -76,7 +105,7 @@ private:
     int mWidth = 0;
     int mHeight = 0;
     int mChannels = 0;
-    std::vector<float> mPixels;
+    std::vector<float, DefaultInitAllocator<float>> mPixels;
 };
 
 } // namespace strata

@@ -1,56 +1,108 @@
-// Making relief textures from files a user already has.
+// Making relief textures from files a user already has: a colour photo (reliefFromPhoto), or a
+// normal map whose green-channel convention must be checked against its height map
+// (detectNormalConvention). docs/import-from-photo.md shows both with pictures.
 #pragma once
 
 #include "strata/relief/relief_texture.h"
 
-#include <filesystem>
 #include <string>
-#include <vector>
 
 namespace strata {
 
 // ---------------------------------------------------------------------------------------------
-// From a colour photo, the way CrazyBump-like tools do it (the meta-relief paper, Section V).
+// From a colour photo, the way CrazyBump-like tools do it. The meta-relief paper (Section V) made
+// the depth and normal maps of most of its Fig. 10 textures from their colour maps with CrazyBump;
+// this is Strata's equivalent, built on the assumption those tools make: in a photo of a surface,
+// what is bright is (mostly) what sticks out, and detail of different sizes should be weighted
+// separately.
 //
-// The luminance of the photo is split into frequency bands with wrap-around Gaussian filters, so the
-// result stays tileable when the photo is. Bright reads as high. Each band is weighted and summed:
-//     h = wLarge * B(sigmaLarge, sigmaHuge) + wMedium * B(sigmaMedium, sigmaLarge) + wSmall * B(sigmaSmall?, sigmaMedium)
-// where B(a, b) = G_a * L - G_b * L is a difference of Gaussians (sigmas in fractions of the tile
-// width so the result does not depend on resolution). The lowest frequencies (uneven lighting across
-// the photo) are dropped. h is normalised to [0, 1] and d = 1 - h.
+// The band model. L is the photo's luminance (Rec. 709 of the sRGB-encoded values, as luminance()
+// computes it), G_s a wrap-around Gaussian blur of standard deviation s (in tile widths), and
+//     B(a, b) = G_a L - G_b L     (a < b)
+// the band of L between the scales a and b (a difference of Gaussians). Then
+//     h = weightSmall  * B(sigmaSmall,  sigmaMedium)
+//       + weightMedium * B(sigmaMedium, sigmaLarge)
+//       + weightLarge  * B(sigmaLarge,  sigmaHuge)
+// The three bands together are L with its finest texel noise (below sigmaSmall) and its lowest
+// frequencies (G_sigmaHuge L: uneven lighting across the photo, vignetting) removed. h is then
+// mapped linearly to [0, 1] (its minimum to 0, its maximum to 1; a featureless photo gives a flat
+// h = 1) and the depth is d = 1 - h (CONVENTIONS §2), or d = h with `invert`.
+//
+// Because the filters wrap around, a tileable photo gives a tileable relief. Because the sigmas are
+// fractions of the tile, the same photo at 512^2 and 1024^2 gives the same relief up to resampling
+// (only the finest band, which is texel-scale by nature, differs). For speed, a blur wider than
+// kExactBlurSigmaTexels texels is computed with four wrap-around extended box filters (running
+// sums, Gwosdek et al. 2011, "Theoretical foundations of Gaussian convolution by extended box
+// filtering") whose variance equals the Gaussian's exactly; docs/import-from-photo.md gives its
+// measured accuracy. Narrower blurs of a square photo use gaussianBlur() directly (it takes one sigma
+// for both axes, so a non-square photo uses the box filters throughout).
 struct PhotoImportParams {
-    double weightLarge = 1.0;    // >= 0. Large detail: shapes a tenth of the tile or bigger.
-    double weightMedium = 0.6;   // >= 0. Medium detail.
-    double weightSmall = 0.3;    // >= 0. Fine detail: texel-scale grain.
-    double sigmaSmall = 0.0;     // fraction of tile width; 0 = no smoothing of the finest band
-    double sigmaMedium = 0.004;  // fraction of tile width (about 2 texels at 512)
-    double sigmaLarge = 0.02;    // fraction of tile width
-    double sigmaHuge = 0.12;     // fraction of tile width: anything broader is lighting, dropped
-    bool invert = false;         // true when dark means high (e.g. a photo of raised dark stones)
-    double depthScale = kDefaultDepthScale;  // S for the derived normal map
+    // Weights of the three bands. Each >= 0 and finite; at least one > 0. Only their ratios matter
+    // for the depth map (h is normalised afterwards).
+    double weightLarge = 1.0;   // shapes between sigmaLarge and sigmaHuge (stones, bricks, cushions)
+    double weightMedium = 0.5;  // detail between sigmaMedium and sigmaLarge (cracks, weave, grain)
+    double weightSmall = 0.25;  // the finest detail, between sigmaSmall and sigmaMedium
+
+    // Band edges, as standard deviations in tile widths (a value of 0.01 is 5.12 texels at 512^2).
+    // They must satisfy 0 <= sigmaSmall < sigmaMedium < sigmaLarge < sigmaHuge <= 1.
+    double sigmaSmall = 0.0;     // 0 = keep detail down to the texel
+    double sigmaMedium = 0.003;  // 1.5 texels at 512^2
+    double sigmaLarge = 0.015;   // 7.7 texels at 512^2
+    double sigmaHuge = 0.08;     // 41 texels at 512^2: anything broader is lighting, and dropped
+
+    // false: bright is high (the usual case: lit tops, dark crevices). true: dark is high (e.g. dark
+    // stones raised from pale mortar).
+    bool invert = false;
+
+    // S, the depth of d = 1 in tile widths (CONVENTIONS §2), for the normal map. > 0 and finite.
+    double depthScale = kDefaultDepthScale;
 };
 
-// Returns depth, normals (at params.depthScale) and the photo itself as colour.
-// Throws Error(InvalidInput) for negative or all-zero weights, or non-increasing sigmas.
+// Blurs of at most this many texels (standard deviation) use the exact truncated Gaussian of
+// gaussianBlur(); wider ones the extended-box approximation described above.
+inline constexpr double kExactBlurSigmaTexels = 4.0;
+
+// Returns depth (1 channel, the photo's size), normals at params.depthScale (normalsFromDepth),
+// the photo's RGB as colour (its first three channels; a gray or gray+alpha photo gives its gray
+// channel three times) and depthScale = params.depthScale. No AO.
+// Throws Error(InvalidInput, "<field>: <what is wrong>") for a parameter outside the ranges above
+// (a negative or non-finite weight, all weights zero, sigmas out of order, depthScale <= 0), and
+// Error(InvalidInput, "photo: ...") for an empty image.
 ReliefTexture reliefFromPhoto(const Image& photo, const PhotoImportParams& params = {});
 
 // ---------------------------------------------------------------------------------------------
-// Which convention a normal map follows, found by comparing it with the normals derived from its
-// depth map: the x components must agree in sign; the y components agree for OpenGL (green up)
-// and are opposite for DirectX (green down). Maps of different resolutions are compared at the
-// normal map's resolution.
+// Which convention a normal map follows (CONVENTIONS §3: Strata's is OpenGL, green towards v = 1),
+// found by comparing it with the normals derived from its own depth map. The Pearson correlation of
+// the file's nx with the derived nx must be clearly positive (otherwise the two files do not
+// describe the same relief, or x is flipped, and nothing can be concluded); the y correlation is
+// then clearly positive for OpenGL (green up) and clearly negative for DirectX (green down).
+// "Clearly" is kConventionCorrelationThreshold, raised for tiny maps (see below).
 enum class NormalConvention { OpenGL, DirectX, Unknown };
 
+// A genuine pair (a normal map baked from the same height field, even with another filter, blur,
+// depth scale or resolution) correlates at r > 0.8 in practice, and unrelated maps of N texels at
+// |r| ~ 1/sqrt(N) (under 0.01 at 256^2), so 0.3 separates them with a wide margin on both sides.
+// For maps so small that chance correlations reach that level, the threshold is raised to
+// 4/sqrt(N) (four standard errors of a correlation between unrelated maps).
+inline constexpr double kConventionCorrelationThreshold = 0.3;
+
 struct NormalConventionReport {
-    NormalConvention convention;
-    double correlationX;  // Pearson correlation of the file's nx with the derived nx (should be > 0)
-    double correlationY;  // of the file's ny with the derived ny: > 0 OpenGL, < 0 DirectX
-    std::string summary;  // one line for a human
+    NormalConvention convention = NormalConvention::Unknown;
+    double correlationX = 0.0;  // Pearson r of the file's nx with the derived nx; 0 if undefined
+    double correlationY = 0.0;  // of ny: > threshold OpenGL, < -threshold DirectX; 0 if undefined
+    double threshold = kConventionCorrelationThreshold;  // the threshold applied to these maps
+    std::string summary;  // one line for a human, e.g. "OpenGL (green up): y agrees ... (r = 0.98)"
 };
 
-// `normals` are decoded (n in [-1, 1]) as stored, without any flip.
+// `normals`: the decoded normal map (3 or more channels, n in [-1, 1], first three used) exactly as
+// stored, without any flip. `depth`: its depth map (1 channel, d = 1 - h for a height map; a height
+// map given as is only swaps both signs, so the x check then reports Unknown). When the sizes
+// differ, the depth map is resampled to the normal map's size. The depth scale does not matter:
+// it changes the derived normals' magnitudes, never their signs.
+// Throws Error(InvalidInput) for an empty image or a wrong channel count.
 NormalConventionReport detectNormalConvention(const Image& normals, const Image& depth);
 
+// "OpenGL", "DirectX", "unknown".
 const char* toString(NormalConvention convention);
 
 } // namespace strata
