@@ -32,7 +32,12 @@ bool isPattern(const std::string& name);
 
 // Makes a pattern: depth in [0, 1] (0 = top), normals from the depth at params.depthScale
 // (normalsFromDepth), colour (sRGB, 3 channels) at the same size; no AO.
-// Throws Error(InvalidInput) for an unknown name (listing the known ones) or a size outside the range.
+// Every pattern is a function of continuous (u, v), so its shape does not change with size: up to 512
+// each texel is the box-filtered average of 512 / size samples per axis (a smaller pattern equals the
+// area-correct resample() of a larger one), from 512 up one sample at each texel centre. Depth is
+// mapped to [0, 1] with extremes that do not depend on the size (docs/patterns.md).
+// Throws Error(InvalidInput) for an unknown name (listing the known ones), a size outside the range,
+// or a depth scale that is not positive and finite.
 ReliefTexture makePattern(const std::string& name, const PatternParams& params = {});
 
 } // namespace strata
