@@ -4,8 +4,38 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <new>
+#include <sys/mman.h>
 
 namespace strata {
+
+namespace {
+constexpr std::size_t kHugePage = std::size_t{2} << 20;
+constexpr std::size_t kHugeThreshold = std::size_t{4} << 20;
+} // namespace
+
+void* Image::allocatePixels(std::size_t bytes) {
+    if (bytes < kHugeThreshold) {
+        void* pointer = ::operator new(bytes);
+        return pointer;
+    }
+    const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+    void* pointer = std::aligned_alloc(kHugePage, rounded);
+    if (!pointer) throw std::bad_alloc();
+#ifdef MADV_HUGEPAGE
+    ::madvise(pointer, rounded, MADV_HUGEPAGE);  // advice only: failure just means 4 KiB pages
+#endif
+    return pointer;
+}
+
+void Image::freePixels(void* pointer, std::size_t bytes) noexcept {
+    if (bytes < kHugeThreshold) {
+        ::operator delete(pointer);
+    } else {
+        std::free(pointer);
+    }
+}
 
 Image::Image(int width, int height, int channels, UninitializedTag)
     : mWidth(width), mHeight(height), mChannels(channels) {

@@ -60,9 +60,9 @@ struct Composition {
 // Multithreaded (oneTBB) over output rows.
 Composition compose(std::span<const CompositionLayer> layers, const ComposeParams& params);
 
-// The same, into `result`, reusing its images' memory when their sizes already match. For
-// interactive re-composition (a weight changed): at 2048^2 a fresh result is 112 MB of new memory,
-// whose allocation and first touch cost more than the composition itself (docs/composition.md).
+// The same, into `result`, reusing its images' memory when their sizes already match: for
+// interactive re-composition (a weight changed), where a 2048^2 result would otherwise be 112 MB of
+// fresh memory per call (docs/composition.md has both timings).
 void composeInto(std::span<const CompositionLayer> layers, const ComposeParams& params, Composition& result);
 
 // The mean and largest angle in degrees between two unit-normal images of the same size.
