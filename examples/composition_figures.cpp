@@ -51,6 +51,17 @@ Image angleMap(const Image& a, const Image& b, double fullScaleDegrees) {
     return out;
 }
 
+// The region around a tile corner of the image repeated 2 x 2: a bake that does not tile shows a
+// cross there.
+Image cornerCrop(const Image& image, int half) {
+    Image out(2 * half, 2 * half, image.channels());
+    for (int y = 0; y < 2 * half; ++y)
+        for (int x = 0; x < 2 * half; ++x)
+            for (int c = 0; c < image.channels(); ++c)
+                out.at(x, y, c) = image.atWrapped(image.width() - half + x, image.height() - half + y, c);
+    return out;
+}
+
 Composition composeMaterial(const fs::path& file, NormalMode mode, int resolution) {
     Material material = readMaterial(file);
     material.compose.normals = mode;
@@ -71,6 +82,14 @@ int main(int argc, char** argv) {
                      strip({paper.texture.depth, encodeNormals(paper.texture.normal), paper.texture.color}),
                      {PngBitDepth::Eight, true});
         }
+        // Seams: integer tilings (Shaped Fabric) against fractional ones (3 layers), around the tile corner.
+        const Composition integer = composeMaterial(examples / "shaped_fabric.json", NormalMode::Paper, size);
+        const Composition fractional = composeMaterial(examples / "three_layers.json", NormalMode::Paper, size);
+        writePng(output / "compose_seams.png",
+                 strip({cornerCrop(integer.texture.color, 128), cornerCrop(fractional.texture.color, 128),
+                        cornerCrop(fractional.texture.depth, 128)}),
+                 {PngBitDepth::Eight, true});
+
         std::printf("| material | mean angle (deg) | largest angle (deg) |\n|---|---|---|\n");
         for (const char* name : {"shaped_fabric", "three_layers"}) {
             const fs::path file = examples / (std::string(name) + ".json");

@@ -16,12 +16,6 @@ namespace strata {
 
 namespace {
 
-std::string formatNumber(double value) {
-    std::ostringstream out;
-    out << value;
-    return out.str();
-}
-
 [[noreturn]] void invalid(const std::string& message) { throw Error(ErrorKind::InvalidInput, message); }
 
 std::string layerName(std::span<const CompositionLayer> layers, std::size_t i) {

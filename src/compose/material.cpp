@@ -86,12 +86,6 @@ private:
     std::set<std::string> mSeen;
 };
 
-std::string formatNumber(double value) {
-    std::ostringstream out;
-    out << value;
-    return out.str();
-}
-
 MaterialLayer parseLayer(const json& object, const std::string& where, const std::string& file, const fs::path& baseDir) {
     ObjectReader reader(object, where, file);
     MaterialLayer layer;

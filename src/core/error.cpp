@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <sstream>
 
 namespace strata {
 
@@ -15,6 +16,12 @@ const char* toString(ErrorKind kind) {
     case ErrorKind::Unsupported: return "unsupported";
     }
     return "error";
+}
+
+std::string formatNumber(double value) {
+    std::ostringstream out;
+    out << value;
+    return out.str();
 }
 
 namespace detail {

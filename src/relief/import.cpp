@@ -13,12 +13,6 @@ namespace strata {
 
 namespace {
 
-std::string formatNumber(double value) {
-    std::ostringstream out;
-    out << value;
-    return out.str();
-}
-
 // "0.98", "-0.05": correlations in the summary line.
 std::string formatCorrelation(double r) {
     char buffer[32];

@@ -24,6 +24,9 @@ constexpr int exitCode(ErrorKind kind) { return static_cast<int>(kind); }
 
 const char* toString(ErrorKind kind);
 
+// A number as an error message shows it: the shortest usual form ("0.3", "-1", "nan", "inf").
+std::string formatNumber(double value);
+
 class Error : public std::runtime_error {
 public:
     Error(ErrorKind kind, const std::string& message) : std::runtime_error(message), mKind(kind) {}
