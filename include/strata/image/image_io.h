@@ -4,7 +4,11 @@
 // JPEG, TGA and BMP through stb_image (Debian's libstb); OpenEXR through tinyexr. The format is
 // recognised from the file's first bytes, not its extension, so a text file renamed `.png` is reported
 // as "not an image". Values come back as floats in [0, 1] (8-bit / 255, 16-bit / 65535), EXR as stored.
-// Rows are top first, as in the file and as strata::Image stores them (CONVENTIONS §1).
+// Rows are top first, as in the file and as strata::Image stores them (CONVENTIONS §1). PNG samples are
+// taken as stored: gAMA/sRGB/iCCP chunks are not applied. EXR: single-part scanline files; channels
+// Y, Y+A, R+G+B or R+G+B+A (or one channel of any name) become 1, 2, 3 or 4 channels; half is widened
+// to float. GIF, TIFF, WebP, Photoshop, DDS, Radiance HDR and Netpbm are recognised and refused as
+// Unsupported.
 //
 // Failure contract: every failure throws strata::Error whose message starts with the file's path
 // and says what is wrong:
@@ -57,7 +61,8 @@ struct PngWriteOptions {
 // and quantised as round(v * (2^bits - 1)) (with the dither above at 8 bits). Atomic.
 void writePng(const std::filesystem::path& path, const Image& image, const PngWriteOptions& options = {});
 
-// Writes a 1-, 3- or 4-channel image as a 32-bit float OpenEXR file (Y, RGB or RGBA). Atomic.
+// Writes a 1- to 4-channel image as a 32-bit float, ZIP-compressed scanline OpenEXR file (channels Y, YA,
+// RGB or RGBA), values as they are (no clamping). Atomic.
 void writeExr(const std::filesystem::path& path, const Image& image);
 
 // Writes PNG or EXR, chosen by the extension (.png / .exr, case-insensitive);
