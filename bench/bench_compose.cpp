@@ -25,7 +25,8 @@ std::vector<strata::CompositionLayer> threeLayers() {
 void composeThreeLayers(benchmark::State& state) {
     const auto mode = static_cast<strata::NormalMode>(state.range(0));
     const int threads = static_cast<int>(state.range(1));
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                              static_cast<std::size_t>(threads));
     static const std::vector<strata::CompositionLayer> layers = threeLayers();
     strata::ComposeParams params;
     params.resolution = 2048;
@@ -37,7 +38,7 @@ void composeThreeLayers(benchmark::State& state) {
         if (reuse) {
             strata::composeInto(layers, params, result);  // the viewer's case: buffers from the last frame
         } else {
-            result = strata::compose(layers, params);     // the CLI's case: 112 MB of fresh memory
+            result = strata::compose(layers, params);  // the CLI's case: 112 MB of fresh memory
         }
         benchmark::DoNotOptimize(result.texture.depth.pixels().data());
     }
@@ -46,10 +47,11 @@ void composeThreeLayers(benchmark::State& state) {
                    (reuse ? "reused buffers" : "fresh result"));
 }
 
-} // namespace
+}  // namespace
 
 BENCHMARK(composeThreeLayers)
-    ->ArgsProduct({{static_cast<int>(strata::NormalMode::Paper), static_cast<int>(strata::NormalMode::Consistent)},
+    ->ArgsProduct({{static_cast<int>(strata::NormalMode::Paper),
+                    static_cast<int>(strata::NormalMode::Consistent)},
                    {1, 2},
                    {0, 1}})
     ->Unit(benchmark::kMillisecond)

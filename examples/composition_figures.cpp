@@ -33,7 +33,8 @@ Image strip(const std::vector<Image>& images, int gap = 8) {
     for (const Image& image : images) {
         for (int y = 0; y < image.height(); ++y)
             for (int x = 0; x < image.width(); ++x)
-                for (int c = 0; c < 3; ++c) out.at(left + x, gap + y, c) = image.at(x, y, image.channels() == 1 ? 0 : c);
+                for (int c = 0; c < 3; ++c)
+                    out.at(left + x, gap + y, c) = image.at(x, y, image.channels() == 1 ? 0 : c);
         left += image.width() + gap;
     }
     return out;
@@ -44,7 +45,8 @@ Image angleMap(const Image& a, const Image& b, double fullScaleDegrees) {
     for (int y = 0; y < a.height(); ++y)
         for (int x = 0; x < a.width(); ++x) {
             double dot = 0.0;
-            for (int c = 0; c < 3; ++c) dot += static_cast<double>(a.at(x, y, c)) * static_cast<double>(b.at(x, y, c));
+            for (int c = 0; c < 3; ++c)
+                dot += static_cast<double>(a.at(x, y, c)) * static_cast<double>(b.at(x, y, c));
             const double degrees = std::acos(std::clamp(dot, -1.0, 1.0)) * 180.0 / std::numbers::pi;
             out.at(x, y) = static_cast<float>(std::min(1.0, degrees / fullScaleDegrees));
         }
@@ -69,7 +71,7 @@ Composition composeMaterial(const fs::path& file, NormalMode mode, int resolutio
     return compose(loadLayers(material), material.compose);
 }
 
-} // namespace
+}  // namespace
 
 int main(int argc, char** argv) {
     const fs::path examples = argc > 1 ? argv[1] : "examples";
@@ -77,14 +79,16 @@ int main(int argc, char** argv) {
     const int size = 512;
     try {
         for (const char* name : {"shaped_fabric", "shaped_metal", "three_layers"}) {
-            const Composition paper = composeMaterial(examples / (std::string(name) + ".json"), NormalMode::Paper, size);
+            const Composition paper =
+                composeMaterial(examples / (std::string(name) + ".json"), NormalMode::Paper, size);
             writePng(output / ("compose_" + std::string(name) + ".png"),
                      strip({paper.texture.depth, encodeNormals(paper.texture.normal), paper.texture.color}),
                      {PngBitDepth::Eight, true});
         }
         // Seams: integer tilings (Shaped Fabric) against fractional ones (3 layers), around the tile corner.
         const Composition integer = composeMaterial(examples / "shaped_fabric.json", NormalMode::Paper, size);
-        const Composition fractional = composeMaterial(examples / "three_layers.json", NormalMode::Paper, size);
+        const Composition fractional =
+            composeMaterial(examples / "three_layers.json", NormalMode::Paper, size);
         writePng(output / "compose_seams.png",
                  strip({cornerCrop(integer.texture.color, 128), cornerCrop(fractional.texture.color, 128),
                         cornerCrop(fractional.texture.depth, 128)}),

@@ -29,4 +29,4 @@ void addBitDepthOption(CLI::App& command, int& bitDepth);
 // Prints what was written ("wrote DIR: depth.png normal.png ...") on stdout.
 void reportWritten(const std::filesystem::path& dir, const std::vector<std::filesystem::path>& files);
 
-} // namespace strata::cli
+}  // namespace strata::cli

@@ -44,7 +44,9 @@ void runCompose(const ComposeOptions& options) {
                           {"color_from", material.compose.colorFrom}};
     for (std::size_t i = 0; i < material.layers.size(); ++i) {
         const MaterialLayer& spec = material.layers[i];
-        nlohmann::json layer{{"tiling", spec.tiling}, {"weight_depth", spec.weightDepth}, {"weight_normal", spec.weightNormal}};
+        nlohmann::json layer{{"tiling", spec.tiling},
+                             {"weight_depth", spec.weightDepth},
+                             {"weight_normal", spec.weightNormal}};
         if (spec.pattern) {
             layer["pattern"] = *spec.pattern;
             layer["size"] = spec.patternParams.size;
@@ -64,19 +66,21 @@ void runCompose(const ComposeOptions& options) {
     reportWritten(options.output, writeTextureSet(options.output, composition.texture, write));
 }
 
-} // namespace
+}  // namespace
 
 void addComposeCommand(CLI::App& app) {
     auto options = std::make_shared<ComposeOptions>();
-    CLI::App* command = app.add_subcommand("compose", "Compose a meta-relief material (JSON) into a texture set");
+    CLI::App* command =
+        app.add_subcommand("compose", "Compose a meta-relief material (JSON) into a texture set");
     command->add_option("material", options->material, "Material file (docs/material.md)")->required();
     command->add_option("-o,--output", options->output, "Output directory")->required();
     command->add_option("--resolution", options->resolution, "Override the material's output resolution")
         ->check(CLI::Range(1, Image::kMaxDimension));
-    command->add_option("--normals", options->normals, "Override the normal mode: paper (Eq. 1) or consistent")
+    command
+        ->add_option("--normals", options->normals, "Override the normal mode: paper (Eq. 1) or consistent")
         ->check(CLI::IsMember({"paper", "consistent"}));
     addBitDepthOption(*command, options->bitDepth);
     command->callback([options] { runCompose(*options); });
 }
 
-} // namespace strata::cli
+}  // namespace strata::cli

@@ -1,6 +1,7 @@
-// strata import (--height F | --depth F) [--normal F [--normal-y up|down|auto]] [--color F] [--depth-scale S] -o DIR
-// strata import --from-photo F [--large W --medium W --small W] [--invert] [--depth-scale S] -o DIR
-// strata import --check-normal F (--height F | --depth F)      reports the normal map's convention, writes nothing
+// strata import (--height F | --depth F) [--normal F [--normal-y up|down|auto]] [--color F] [--depth-scale S]
+// -o DIR strata import --from-photo F [--large W --medium W --small W] [--invert] [--depth-scale S] -o DIR
+// strata import --check-normal F (--height F | --depth F)      reports the normal map's convention, writes
+// nothing
 #include "cli_common.h"
 
 #include "strata/core/error.h"
@@ -50,7 +51,8 @@ Image readDepthInput(const ImportOptions& options, nlohmann::json& source) {
 NormalConventionReport checkConvention(const fs::path& normalFile, const Image& depth) {
     const Image encoded = readImage(normalFile);
     if (encoded.channels() < 3)
-        throw Error(ErrorKind::InvalidInput, normalFile.string() + ": a normal map needs 3 channels (RGB), it has " +
+        throw Error(ErrorKind::InvalidInput, normalFile.string() +
+                                                 ": a normal map needs 3 channels (RGB), it has " +
                                                  std::to_string(encoded.channels()));
     return detectNormalConvention(decodeNormals(encoded, false), depth);
 }
@@ -62,13 +64,15 @@ void runImport(ImportOptions options) {
 
     nlohmann::json source{{"kind", "import"}};
     if (!options.checkNormal.empty()) {
-        if (!options.photo.empty()) throw Error(ErrorKind::Usage, "import: --check-normal needs --height or --depth");
+        if (!options.photo.empty())
+            throw Error(ErrorKind::Usage, "import: --check-normal needs --height or --depth");
         const Image depth = readDepthInput(options, source);
         const NormalConventionReport report = checkConvention(options.checkNormal, depth);
         std::cout << options.checkNormal.string() << ": " << report.summary << "\n";
         return;
     }
-    if (options.output.empty()) throw Error(ErrorKind::Usage, "import: give the output directory with -o DIR");
+    if (options.output.empty())
+        throw Error(ErrorKind::Usage, "import: give the output directory with -o DIR");
 
     std::vector<fs::path> inputs;
     ReliefTexture texture;
@@ -95,17 +99,20 @@ void runImport(ImportOptions options) {
                 throw Error(ErrorKind::InvalidInput, options.normal.string() +
                                                          ": a normal map needs 3 channels (RGB), it has " +
                                                          std::to_string(encoded.channels()));
-            const NormalConventionReport report = detectNormalConvention(decodeNormals(encoded, false), texture.depth);
+            const NormalConventionReport report =
+                detectNormalConvention(decodeNormals(encoded, false), texture.depth);
             bool flipY = options.normalY == "down";
             if (options.normalY == "auto") {
                 if (report.convention == NormalConvention::Unknown)
-                    throw Error(ErrorKind::InvalidInput, options.normal.string() +
-                                                             ": --normal-y auto cannot tell the convention: " + report.summary);
+                    throw Error(ErrorKind::InvalidInput,
+                                options.normal.string() +
+                                    ": --normal-y auto cannot tell the convention: " + report.summary);
                 flipY = report.convention == NormalConvention::DirectX;
                 note(options.normal.string() + ": " + report.summary);
             } else if ((report.convention == NormalConvention::DirectX && !flipY) ||
                        (report.convention == NormalConvention::OpenGL && flipY)) {
-                warn(options.normal.string() + ": read with --normal-y " + options.normalY + ", but " + report.summary);
+                warn(options.normal.string() + ": read with --normal-y " + options.normalY + ", but " +
+                     report.summary);
             }
             texture.normal = decodeNormals(encoded, flipY);
             normalSource = flipY ? "file (DirectX, converted to OpenGL)" : "file (OpenGL)";
@@ -129,32 +136,40 @@ void runImport(ImportOptions options) {
     reportWritten(options.output, writeTextureSet(options.output, texture, write));
 }
 
-} // namespace
+}  // namespace
 
 void addImportCommand(CLI::App& app) {
     auto options = std::make_shared<ImportOptions>();
-    CLI::App* command = app.add_subcommand("import", "Make a texture set from a height, depth or normal map, or a colour photo");
+    CLI::App* command = app.add_subcommand(
+        "import", "Make a texture set from a height, depth or normal map, or a colour photo");
     command->add_option("--height", options->height, "Height map (white = high); read as d = 1 - h");
     command->add_option("--depth", options->depth, "Depth map (0 = top, 1 = deepest)");
-    command->add_option("--normal", options->normal, "Tangent-space normal map (otherwise derived from depth)");
-    command->add_option("--normal-y", options->normalY,
-                        "Green channel of --normal: up (OpenGL), down (DirectX, converted), auto (detected from depth)")
+    command->add_option("--normal", options->normal,
+                        "Tangent-space normal map (otherwise derived from depth)");
+    command
+        ->add_option(
+            "--normal-y", options->normalY,
+            "Green channel of --normal: up (OpenGL), down (DirectX, converted), auto (detected from depth)")
         ->check(CLI::IsMember({"up", "down", "auto"}))
         ->capture_default_str();
     command->add_option("--color", options->color, "Colour map (any resolution)");
-    command->add_option("--from-photo", options->photo, "Colour photo: build depth and normals from its luminance bands");
+    command->add_option("--from-photo", options->photo,
+                        "Colour photo: build depth and normals from its luminance bands");
     command->add_option("--large", options->photoParams.weightLarge, "--from-photo: weight of large detail")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
-    command->add_option("--medium", options->photoParams.weightMedium, "--from-photo: weight of medium detail")
+    command
+        ->add_option("--medium", options->photoParams.weightMedium, "--from-photo: weight of medium detail")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     command->add_option("--small", options->photoParams.weightSmall, "--from-photo: weight of fine detail")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
-    command->add_flag("--invert", options->photoParams.invert, "--from-photo: dark is high instead of bright");
+    command->add_flag("--invert", options->photoParams.invert,
+                      "--from-photo: dark is high instead of bright");
     command->add_option("--check-normal", options->checkNormal,
-                        "Report whether this normal map is OpenGL or DirectX, by comparing it with --height/--depth; writes nothing");
+                        "Report whether this normal map is OpenGL or DirectX, by comparing it with "
+                        "--height/--depth; writes nothing");
     command->add_option("--depth-scale", options->depthScale, "Depth scale S (depth of d = 1 in tile widths)")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
@@ -163,4 +178,4 @@ void addImportCommand(CLI::App& app) {
     command->callback([options] { runImport(*options); });
 }
 
-} // namespace strata::cli
+}  // namespace strata::cli

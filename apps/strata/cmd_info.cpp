@@ -24,12 +24,8 @@ struct InfoOptions {
 
 json imageJson(const fs::path& file) {
     const ImageInfo info = readImageInfo(file);
-    return {{"file", file.string()},
-            {"format", toString(info.format)},
-            {"width", info.width},
-            {"height", info.height},
-            {"channels", info.channels},
-            {"bit_depth", info.bitDepth}};
+    return {{"file", file.string()}, {"format", toString(info.format)}, {"width", info.width},
+            {"height", info.height}, {"channels", info.channels},       {"bit_depth", info.bitDepth}};
 }
 
 std::string sizeText(const json& size) {
@@ -50,8 +46,8 @@ void printSet(const fs::path& path, const json& sidecar) {
         }
         std::cout << it->value("file", "?") << " " << sizeText(it->value("size", json()));
         if (std::string(key) == "normal")
-            std::cout << ", " << it->value("convention", "?") << " (green " << it->value("green", "?") << "), from "
-                      << it->value("source", "?");
+            std::cout << ", " << it->value("convention", "?") << " (green " << it->value("green", "?")
+                      << "), from " << it->value("source", "?");
         if (std::string(key) == "ao")
             std::cout << ", R = " << it->value("radius", 0.0) << ", " << it->value("method", "?");
         if (std::string(key) == "packed") std::cout << ", B channel: " << it->value("ao_channel", "?");
@@ -62,15 +58,17 @@ void printSet(const fs::path& path, const json& sidecar) {
 
 void runInfo(const InfoOptions& options) {
     std::error_code ec;
-    if (!fs::exists(options.path, ec)) throw Error(ErrorKind::Io, options.path.string() + ": no such file or directory");
+    if (!fs::exists(options.path, ec))
+        throw Error(ErrorKind::Io, options.path.string() + ": no such file or directory");
     const bool isSet = fs::is_directory(options.path, ec) || options.path.extension() == ".json";
     if (!isSet) {
         const json info = imageJson(options.path);
         if (options.json) {
             std::cout << info.dump(2) << "\n";
         } else {
-            std::cout << options.path.string() << ": " << info["format"].get<std::string>() << " " << info["width"] << "x"
-                      << info["height"] << ", " << info["channels"] << " channel(s), " << info["bit_depth"] << "-bit\n";
+            std::cout << options.path.string() << ": " << info["format"].get<std::string>() << " "
+                      << info["width"] << "x" << info["height"] << ", " << info["channels"] << " channel(s), "
+                      << info["bit_depth"] << "-bit\n";
         }
         return;
     }
@@ -82,7 +80,7 @@ void runInfo(const InfoOptions& options) {
     }
 }
 
-} // namespace
+}  // namespace
 
 void addInfoCommand(CLI::App& app) {
     auto options = std::make_shared<InfoOptions>();
@@ -92,4 +90,4 @@ void addInfoCommand(CLI::App& app) {
     command->callback([options] { runInfo(*options); });
 }
 
-} // namespace strata::cli
+}  // namespace strata::cli

@@ -29,8 +29,10 @@ void runPattern(const PatternOptions& options) {
             std::cout << std::left << std::setw(14) << info.name << info.description << "\n";
         return;
     }
-    if (options.name.empty()) throw Error(ErrorKind::Usage, "pattern: give a pattern NAME (see `strata pattern --list`)");
-    if (options.output.empty()) throw Error(ErrorKind::Usage, "pattern: give the output directory with -o DIR");
+    if (options.name.empty())
+        throw Error(ErrorKind::Usage, "pattern: give a pattern NAME (see `strata pattern --list`)");
+    if (options.output.empty())
+        throw Error(ErrorKind::Usage, "pattern: give the output directory with -o DIR");
     progress("generating " + options.name + " at " + std::to_string(options.params.size) + "^2");
     const ReliefTexture texture = makePattern(options.name, options.params);
     TextureSetWriteOptions write;
@@ -45,7 +47,7 @@ void runPattern(const PatternOptions& options) {
     reportWritten(options.output, writeTextureSet(options.output, texture, write));
 }
 
-} // namespace
+}  // namespace
 
 void addPatternCommand(CLI::App& app) {
     auto options = std::make_shared<PatternOptions>();
@@ -56,8 +58,9 @@ void addPatternCommand(CLI::App& app) {
         ->check(CLI::Range(kMinPatternSize, kMaxPatternSize))
         ->capture_default_str();
     command->add_option("--seed", options->params.seed, "Random seed")->capture_default_str();
-    command->add_option("--depth-scale", options->params.depthScale,
-                        "Depth scale S for the normal map (depth of d = 1 in tile widths)")
+    command
+        ->add_option("--depth-scale", options->params.depthScale,
+                     "Depth scale S for the normal map (depth of d = 1 in tile widths)")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     addBitDepthOption(*command, options->bitDepth);
@@ -65,4 +68,4 @@ void addPatternCommand(CLI::App& app) {
     command->callback([options] { runPattern(*options); });
 }
 
-} // namespace strata::cli
+}  // namespace strata::cli

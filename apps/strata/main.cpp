@@ -16,7 +16,8 @@ int main(int argc, char** argv) {
     CLI::App app{"strata: relief textures, meta-relief composition and texture-space ambient occlusion"};
     app.set_version_flag("--version", std::string("strata ") + strata::kVersion);
     app.require_subcommand(1);
-    app.footer("Exit codes: 0 ok, 1 usage, 2 I/O, 3 invalid input, 4 runtime, 5 unsupported. See docs/cli.md.");
+    app.footer(
+        "Exit codes: 0 ok, 1 usage, 2 I/O, 3 invalid input, 4 runtime, 5 unsupported. See docs/cli.md.");
     strata::cli::addPatternCommand(app);
     strata::cli::addImportCommand(app);
     strata::cli::addComposeCommand(app);

@@ -8,15 +8,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 namespace strata {
 
 namespace {
 
-[[noreturn]] void invalid(const std::string& message) { throw Error(ErrorKind::InvalidInput, message); }
+[[noreturn]] void invalid(const std::string& message) {
+    throw Error(ErrorKind::InvalidInput, message);
+}
 
 std::string layerName(std::span<const CompositionLayer> layers, std::size_t i) {
     return layers[i].label.empty() ? "layer " + std::to_string(i) : layers[i].label;
@@ -30,7 +32,8 @@ void validate(std::span<const CompositionLayer> layers, const ComposeParams& par
         const CompositionLayer& layer = layers[i];
         const std::string name = layerName(layers, i);
         auto checkWeight = [&](double w, const char* key) {
-            if (!std::isfinite(w)) invalid(name + ": " + key + " must be a finite number, got " + formatNumber(w));
+            if (!std::isfinite(w))
+                invalid(name + ": " + key + " must be a finite number, got " + formatNumber(w));
             if (w < 0.0) invalid(name + ": " + key + " must be >= 0, got " + formatNumber(w));
         };
         checkWeight(layer.weightDepth, "weight_depth");
@@ -45,8 +48,10 @@ void validate(std::span<const CompositionLayer> layers, const ComposeParams& par
         sumDepth += layer.weightDepth;
         sumNormal += layer.weightNormal;
     }
-    if (!(sumDepth > 0.0)) invalid("the depth weights (weight_depth) of the layers sum to 0: at least one must be > 0");
-    if (!(sumNormal > 0.0)) invalid("the normal weights (weight_normal) of the layers sum to 0: at least one must be > 0");
+    if (!(sumDepth > 0.0))
+        invalid("the depth weights (weight_depth) of the layers sum to 0: at least one must be > 0");
+    if (!(sumNormal > 0.0))
+        invalid("the normal weights (weight_normal) of the layers sum to 0: at least one must be > 0");
     if (params.resolution < 0 || params.resolution > Image::kMaxDimension)
         invalid("resolution must be in [1, " + std::to_string(Image::kMaxDimension) + "], got " +
                 std::to_string(params.resolution));
@@ -59,7 +64,8 @@ void validate(std::span<const CompositionLayer> layers, const ComposeParams& par
         if (layers[params.colorFrom].texture.color.empty())
             invalid("color_from: " + layerName(layers, params.colorFrom) + " has no colour map");
     } else if (params.colorFrom != -1) {
-        invalid("color_from must be a layer index >= 0, or -1 for none, got " + std::to_string(params.colorFrom));
+        invalid("color_from must be a layer index >= 0, or -1 for none, got " +
+                std::to_string(params.colorFrom));
     }
 }
 
@@ -88,7 +94,8 @@ AxisTaps axisTaps(int outSize, int layerSize, double tiling, bool flipped) {
     for (int k = 0; k < outSize; ++k) {
         const double x = (k + 0.5) * scale + offset;
         const double fx = std::floor(x);
-        const int base = Image::wrap(static_cast<int>(std::fmod(fx, static_cast<double>(layerSize))), layerSize);
+        const int base =
+            Image::wrap(static_cast<int>(std::fmod(fx, static_cast<double>(layerSize))), layerSize);
         taps.i0[k] = base;
         taps.i1[k] = base + 1 == layerSize ? 0 : base + 1;
         taps.t[k] = static_cast<float>(x - fx);
@@ -129,17 +136,27 @@ struct SampledMap {
 
     void accumulateRow(int y, float weight, float* dst) const {
         switch (image->channels()) {
-        case 1: accumulateRow<1>(y, weight, dst); break;
-        case 2: accumulateRow<2>(y, weight, dst); break;
-        case 3: accumulateRow<3>(y, weight, dst); break;
-        default: accumulateRow<4>(y, weight, dst); break;
+            case 1:
+                accumulateRow<1>(y, weight, dst);
+                break;
+            case 2:
+                accumulateRow<2>(y, weight, dst);
+                break;
+            case 3:
+                accumulateRow<3>(y, weight, dst);
+                break;
+            default:
+                accumulateRow<4>(y, weight, dst);
+                break;
         }
     }
 };
 
-bool isInteger(double value) { return std::fabs(value - std::round(value)) < 1e-9; }
+bool isInteger(double value) {
+    return std::fabs(value - std::round(value)) < 1e-9;
+}
 
-} // namespace
+}  // namespace
 
 namespace {
 
@@ -150,7 +167,7 @@ void reshape(Image& image, int width, int height, int channels) {
         image = Image::uninitialized(width, height, channels);
 }
 
-} // namespace
+}  // namespace
 
 Composition compose(std::span<const CompositionLayer> layers, const ComposeParams& params) {
     Composition result;
@@ -170,7 +187,8 @@ void composeInto(std::span<const CompositionLayer> layers, const ComposeParams& 
         if (!isInteger(layers[i].tiling))
             result.warnings.push_back(
                 layerName(layers, i) + ": tiling " + formatNumber(layers[i].tiling) +
-                " is not an integer, so the baked texture does not tile (the layer is cut at the tile border). "
+                " is not an integer, so the baked texture does not tile (the layer is cut at the tile "
+                "border). "
                 "The renderer's live meta-relief path samples layers per fragment and has no such seam.");
 
     double sumDepth = 0.0;
@@ -183,9 +201,9 @@ void composeInto(std::span<const CompositionLayer> layers, const ComposeParams& 
     // Per-layer sampling plans. Consistent normals need each layer's depth gradient (per layer tile),
     // sampled like the depth and scaled by the tiling factor (chain rule).
     struct LayerPlan {
-        float depthWeight;   // w_d / sum w_d
-        float normalWeight;  // w_n / sum w_n
-        float gradientScale; // w_d / sum w_d * tiling
+        float depthWeight;    // w_d / sum w_d
+        float normalWeight;   // w_n / sum w_n
+        float gradientScale;  // w_d / sum w_d * tiling
         SampledMap depth;
         std::optional<SampledMap> normal;
         std::optional<SampledMap> gradient;
@@ -199,7 +217,9 @@ void composeInto(std::span<const CompositionLayer> layers, const ComposeParams& 
         LayerPlan plan{static_cast<float>(layer.weightDepth / sumDepth),
                        static_cast<float>(layer.weightNormal / sumNormal),
                        static_cast<float>(layer.weightDepth / sumDepth * layer.tiling),
-                       SampledMap(layer.texture.depth, size, layer.tiling), std::nullopt, std::nullopt};
+                       SampledMap(layer.texture.depth, size, layer.tiling),
+                       std::nullopt,
+                       std::nullopt};
         if (params.normals == NormalMode::Paper && layer.weightNormal > 0.0)
             plan.normal.emplace(layer.texture.normal, size, layer.tiling);
         if (params.normals == NormalMode::Consistent && layer.weightDepth > 0.0) {
@@ -279,7 +299,8 @@ AngleStats angleBetween(const Image& a, const Image& b) {
     for (int y = 0; y < a.height(); ++y)
         for (int x = 0; x < a.width(); ++x) {
             double dot = 0.0;
-            for (int c = 0; c < 3; ++c) dot += static_cast<double>(a.at(x, y, c)) * static_cast<double>(b.at(x, y, c));
+            for (int c = 0; c < 3; ++c)
+                dot += static_cast<double>(a.at(x, y, c)) * static_cast<double>(b.at(x, y, c));
             const double angle = std::acos(std::clamp(dot, -1.0, 1.0)) * 180.0 / std::numbers::pi;
             sum += angle;
             worst = std::max(worst, angle);
@@ -287,12 +308,15 @@ AngleStats angleBetween(const Image& a, const Image& b) {
     return {sum / static_cast<double>(a.texelCount()), worst};
 }
 
-const char* toString(NormalMode mode) { return mode == NormalMode::Paper ? "paper" : "consistent"; }
+const char* toString(NormalMode mode) {
+    return mode == NormalMode::Paper ? "paper" : "consistent";
+}
 
 NormalMode parseNormalMode(const std::string& text) {
     if (text == "paper") return NormalMode::Paper;
     if (text == "consistent") return NormalMode::Consistent;
-    throw Error(ErrorKind::InvalidInput, "normals: must be \"paper\" or \"consistent\", got \"" + text + "\"");
+    throw Error(ErrorKind::InvalidInput,
+                "normals: must be \"paper\" or \"consistent\", got \"" + text + "\"");
 }
 
-} // namespace strata
+}  // namespace strata

@@ -25,7 +25,8 @@ class ObjectReader {
 public:
     ObjectReader(const json& object, std::string where, std::string file)
         : mObject(object), mWhere(std::move(where)), mFile(std::move(file)) {
-        if (!mObject.is_object()) fail(mWhere, std::string("must be a JSON object, got ") + mObject.type_name());
+        if (!mObject.is_object())
+            fail(mWhere, std::string("must be a JSON object, got ") + mObject.type_name());
     }
 
     [[noreturn]] void fail(const std::string& key, const std::string& what) const {
@@ -37,7 +38,8 @@ public:
     std::optional<double> number(const std::string& key) {
         const json* value = find(key);
         if (!value) return std::nullopt;
-        if (!value->is_number()) fail(keyPath(key), std::string("must be a number, got ") + value->type_name());
+        if (!value->is_number())
+            fail(keyPath(key), std::string("must be a number, got ") + value->type_name());
         const double number = value->get<double>();
         if (!std::isfinite(number)) fail(keyPath(key), "must be a finite number");
         return number;
@@ -47,23 +49,27 @@ public:
         const json* value = find(key);
         if (!value) return std::nullopt;
         if (!value->is_number_integer())
-            fail(keyPath(key), std::string("must be an integer, got ") + (value->is_number() ? value->dump() : value->type_name()));
+            fail(keyPath(key), std::string("must be an integer, got ") +
+                                   (value->is_number() ? value->dump() : value->type_name()));
         const auto number = value->get<long long>();
         if (number < min || number > max)
-            fail(keyPath(key), "must be in [" + std::to_string(min) + ", " + std::to_string(max) + "], got " + std::to_string(number));
+            fail(keyPath(key), "must be in [" + std::to_string(min) + ", " + std::to_string(max) + "], got " +
+                                   std::to_string(number));
         return number;
     }
 
     std::optional<std::string> string(const std::string& key) {
         const json* value = find(key);
         if (!value) return std::nullopt;
-        if (!value->is_string()) fail(keyPath(key), std::string("must be a string, got ") + value->type_name());
+        if (!value->is_string())
+            fail(keyPath(key), std::string("must be a string, got ") + value->type_name());
         return value->get<std::string>();
     }
 
     const json* array(const std::string& key) {
         const json* value = find(key);
-        if (value && !value->is_array()) fail(keyPath(key), std::string("must be an array, got ") + value->type_name());
+        if (value && !value->is_array())
+            fail(keyPath(key), std::string("must be an array, got ") + value->type_name());
         return value;
     }
 
@@ -86,7 +92,8 @@ private:
     std::set<std::string> mSeen;
 };
 
-MaterialLayer parseLayer(const json& object, const std::string& where, const std::string& file, const fs::path& baseDir) {
+MaterialLayer parseLayer(const json& object, const std::string& where, const std::string& file,
+                         const fs::path& baseDir) {
     ObjectReader reader(object, where, file);
     MaterialLayer layer;
     layer.name = reader.string("name").value_or("");
@@ -99,7 +106,8 @@ MaterialLayer parseLayer(const json& object, const std::string& where, const std
         const fs::path path = baseDir / *relative;
         std::error_code ec;
         if (!fs::is_regular_file(path, ec))
-            throw Error(ErrorKind::Io, file + ": " + reader.keyPath(key) + ": no such file: " + path.string());
+            throw Error(ErrorKind::Io,
+                        file + ": " + reader.keyPath(key) + ": no such file: " + path.string());
         return path;
     };
 
@@ -108,15 +116,18 @@ MaterialLayer parseLayer(const json& object, const std::string& where, const std
         if (!isPattern(*layer.pattern)) {
             std::string known;
             for (const auto& info : patternList()) known += (known.empty() ? "" : ", ") + info.name;
-            reader.fail(reader.keyPath("pattern"), "unknown pattern \"" + *layer.pattern + "\" (known: " + known + ")");
+            reader.fail(reader.keyPath("pattern"),
+                        "unknown pattern \"" + *layer.pattern + "\" (known: " + known + ")");
         }
         const PatternParams defaults;
-        layer.patternParams.size = static_cast<int>(reader.integer("size", kMinPatternSize, kMaxPatternSize).value_or(defaults.size));
+        layer.patternParams.size = static_cast<int>(
+            reader.integer("size", kMinPatternSize, kMaxPatternSize).value_or(defaults.size));
         layer.patternParams.seed = static_cast<std::uint32_t>(
             reader.integer("seed", 0, std::numeric_limits<std::uint32_t>::max()).value_or(defaults.seed));
         layer.patternParams.depthScale = reader.number("depth_scale").value_or(defaults.depthScale);
         if (!(layer.patternParams.depthScale > 0.0))
-            reader.fail(reader.keyPath("depth_scale"), "must be > 0, got " + formatNumber(layer.patternParams.depthScale));
+            reader.fail(reader.keyPath("depth_scale"),
+                        "must be > 0, got " + formatNumber(layer.patternParams.depthScale));
         for (const char* fileKey : {"depth", "height", "normal", "normal_y", "color"})
             if (reader.has(fileKey))
                 reader.fail(reader.keyPath(fileKey), "a layer uses either \"pattern\" or files, not both");
@@ -133,26 +144,32 @@ MaterialLayer parseLayer(const json& object, const std::string& where, const std
         layer.normalFile = existingFile("normal");
         const std::string normalY = reader.string("normal_y").value_or("up");
         if (normalY != "up" && normalY != "down")
-            reader.fail(reader.keyPath("normal_y"), "must be \"up\" (OpenGL) or \"down\" (DirectX), got \"" + normalY + "\"");
-        if (reader.has("normal_y") && !layer.normalFile) reader.fail(reader.keyPath("normal_y"), "given without \"normal\"");
+            reader.fail(reader.keyPath("normal_y"),
+                        "must be \"up\" (OpenGL) or \"down\" (DirectX), got \"" + normalY + "\"");
+        if (reader.has("normal_y") && !layer.normalFile)
+            reader.fail(reader.keyPath("normal_y"), "given without \"normal\"");
         layer.normalYDown = normalY == "down";
         layer.fileDepthScale = reader.number("depth_scale");
         if (layer.fileDepthScale && !(*layer.fileDepthScale > 0.0))
-            reader.fail(reader.keyPath("depth_scale"), "must be > 0, got " + formatNumber(*layer.fileDepthScale));
+            reader.fail(reader.keyPath("depth_scale"),
+                        "must be > 0, got " + formatNumber(*layer.fileDepthScale));
         layer.colorFile = existingFile("color");
     }
 
     layer.tiling = reader.number("tiling").value_or(1.0);
-    if (!(layer.tiling > 0.0)) reader.fail(reader.keyPath("tiling"), "must be > 0, got " + formatNumber(layer.tiling));
+    if (!(layer.tiling > 0.0))
+        reader.fail(reader.keyPath("tiling"), "must be > 0, got " + formatNumber(layer.tiling));
     layer.weightDepth = reader.number("weight_depth").value_or(1.0);
-    if (layer.weightDepth < 0.0) reader.fail(reader.keyPath("weight_depth"), "must be >= 0, got " + formatNumber(layer.weightDepth));
+    if (layer.weightDepth < 0.0)
+        reader.fail(reader.keyPath("weight_depth"), "must be >= 0, got " + formatNumber(layer.weightDepth));
     layer.weightNormal = reader.number("weight_normal").value_or(1.0);
-    if (layer.weightNormal < 0.0) reader.fail(reader.keyPath("weight_normal"), "must be >= 0, got " + formatNumber(layer.weightNormal));
+    if (layer.weightNormal < 0.0)
+        reader.fail(reader.keyPath("weight_normal"), "must be >= 0, got " + formatNumber(layer.weightNormal));
     reader.rejectUnknown();
     return layer;
 }
 
-} // namespace
+}  // namespace
 
 Material parseMaterial(const json& document, const fs::path& source) {
     const std::string file = source.string();
@@ -160,7 +177,8 @@ Material parseMaterial(const json& document, const fs::path& source) {
     ObjectReader reader(document, "", file);
     Material material;
     material.source = source;
-    material.compose.resolution = static_cast<int>(reader.integer("resolution", 1, Image::kMaxDimension).value_or(0));
+    material.compose.resolution =
+        static_cast<int>(reader.integer("resolution", 1, Image::kMaxDimension).value_or(0));
     material.compose.depthScale = reader.number("depth_scale").value_or(kDefaultDepthScale);
     if (!(material.compose.depthScale > 0.0))
         reader.fail("depth_scale", "must be > 0, got " + formatNumber(material.compose.depthScale));
@@ -176,18 +194,21 @@ Material parseMaterial(const json& document, const fs::path& source) {
     if (!layers) reader.fail("layers", "missing: a material needs a \"layers\" array");
     if (layers->empty()) reader.fail("layers", "must hold at least one layer");
     for (std::size_t i = 0; i < layers->size(); ++i)
-        material.layers.push_back(parseLayer((*layers)[i], "layers[" + std::to_string(i) + "]", file, baseDir));
+        material.layers.push_back(
+            parseLayer((*layers)[i], "layers[" + std::to_string(i) + "]", file, baseDir));
 
     // color_from: default the first layer that has colour (every pattern has colour).
     int defaultColor = -1;
     for (std::size_t i = 0; i < material.layers.size() && defaultColor < 0; ++i)
         if (material.layers[i].pattern || material.layers[i].colorFile) defaultColor = static_cast<int>(i);
-    const auto colorFrom = reader.integer("color_from", -1, static_cast<long long>(material.layers.size()) - 1);
+    const auto colorFrom =
+        reader.integer("color_from", -1, static_cast<long long>(material.layers.size()) - 1);
     material.compose.colorFrom = colorFrom ? static_cast<int>(*colorFrom) : defaultColor;
     if (material.compose.colorFrom >= 0) {
         const MaterialLayer& chosen = material.layers[material.compose.colorFrom];
         if (!chosen.pattern && !chosen.colorFile)
-            reader.fail("color_from", "layers[" + std::to_string(material.compose.colorFrom) + "] has no \"color\" file");
+            reader.fail("color_from",
+                        "layers[" + std::to_string(material.compose.colorFrom) + "] has no \"color\" file");
     }
 
     // Later issues add the AO keys; until they land they are refused like any other unknown key.
@@ -199,8 +220,10 @@ Material parseMaterial(const json& document, const fs::path& source) {
         sumDepth += layer.weightDepth;
         sumNormal += layer.weightNormal;
     }
-    if (!(sumDepth > 0.0)) reader.fail("layers", "the weight_depth values sum to 0: at least one must be > 0");
-    if (!(sumNormal > 0.0)) reader.fail("layers", "the weight_normal values sum to 0: at least one must be > 0");
+    if (!(sumDepth > 0.0))
+        reader.fail("layers", "the weight_depth values sum to 0: at least one must be > 0");
+    if (!(sumNormal > 0.0))
+        reader.fail("layers", "the weight_normal values sum to 0: at least one must be > 0");
     return material;
 }
 
@@ -221,8 +244,10 @@ std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<s
         const MaterialLayer& spec = material.layers[i];
         CompositionLayer layer;
         layer.label = "layers[" + std::to_string(i) + "]";
-        if (!spec.name.empty()) layer.label += " (" + spec.name + ")";
-        else if (spec.pattern) layer.label += " (" + *spec.pattern + ")";
+        if (!spec.name.empty())
+            layer.label += " (" + spec.name + ")";
+        else if (spec.pattern)
+            layer.label += " (" + *spec.pattern + ")";
         layer.tiling = spec.tiling;
         layer.weightDepth = spec.weightDepth;
         layer.weightNormal = spec.weightNormal;
@@ -240,8 +265,9 @@ std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<s
             if (spec.normalFile) {
                 const Image encoded = readImage(*spec.normalFile);
                 if (encoded.channels() < 3)
-                    throw Error(ErrorKind::InvalidInput, spec.normalFile->string() + ": a normal map needs 3 channels (RGB), it has " +
-                                                             std::to_string(encoded.channels()));
+                    throw Error(ErrorKind::InvalidInput,
+                                spec.normalFile->string() + ": a normal map needs 3 channels (RGB), it has " +
+                                    std::to_string(encoded.channels()));
                 layer.texture.normal = decodeNormals(encoded, spec.normalYDown);
             } else {
                 layer.texture.normal = normalsFromDepth(layer.texture.depth, layer.texture.depthScale);
@@ -261,4 +287,4 @@ std::vector<fs::path> materialInputs(const Material& material) {
     return inputs;
 }
 
-} // namespace strata
+}  // namespace strata

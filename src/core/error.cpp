@@ -1,5 +1,5 @@
-#include "strata/core/check.h"
 #include "strata/core/error.h"
+#include "strata/core/check.h"
 
 #include <cstdio>
 #include <cstdlib>
@@ -9,11 +9,16 @@ namespace strata {
 
 const char* toString(ErrorKind kind) {
     switch (kind) {
-    case ErrorKind::Usage: return "usage error";
-    case ErrorKind::Io: return "I/O error";
-    case ErrorKind::InvalidInput: return "invalid input";
-    case ErrorKind::Runtime: return "runtime error";
-    case ErrorKind::Unsupported: return "unsupported";
+        case ErrorKind::Usage:
+            return "usage error";
+        case ErrorKind::Io:
+            return "I/O error";
+        case ErrorKind::InvalidInput:
+            return "invalid input";
+        case ErrorKind::Runtime:
+            return "runtime error";
+        case ErrorKind::Unsupported:
+            return "unsupported";
     }
     return "error";
 }
@@ -31,5 +36,5 @@ void checkFailed(const char* file, int line, const std::string& what) {
     std::abort();
 }
 
-} // namespace detail
-} // namespace strata
+}  // namespace detail
+}  // namespace strata

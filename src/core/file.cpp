@@ -2,11 +2,11 @@
 
 #include "strata/core/error.h"
 
+#include <unistd.h>
 #include <atomic>
 #include <fstream>
 #include <iterator>
 #include <system_error>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -17,12 +17,13 @@ namespace {
 fs::path temporaryPathFor(const fs::path& dest) {
     static std::atomic<unsigned> counter{0};
     const fs::path dir = dest.has_parent_path() ? dest.parent_path() : fs::path(".");
-    // Keep the extension last so libraries that look at it (tinyexr, libpng do not, but be safe) still see it.
+    // Keep the extension last so libraries that look at it (tinyexr, libpng do not, but be safe) still see
+    // it.
     return dir / ("." + dest.stem().string() + ".tmp" + std::to_string(::getpid()) + "-" +
                   std::to_string(counter++) + dest.extension().string());
 }
 
-} // namespace
+}  // namespace
 
 void writeFileAtomic(const fs::path& dest, const std::function<void(const fs::path&)>& write) {
     const fs::path dir = dest.has_parent_path() ? dest.parent_path() : fs::path(".");
@@ -39,7 +40,8 @@ void writeFileAtomic(const fs::path& dest, const std::function<void(const fs::pa
     fs::rename(tmp, dest, ec);
     if (ec) {
         fs::remove(tmp, ec);
-        throw Error(ErrorKind::Io, dest.string() + ": cannot move the finished file into place: " + ec.message());
+        throw Error(ErrorKind::Io,
+                    dest.string() + ": cannot move the finished file into place: " + ec.message());
     }
 }
 
@@ -55,7 +57,8 @@ void writeTextFileAtomic(const fs::path& dest, const std::string& text) {
 std::vector<unsigned char> readFileBytes(const fs::path& path) {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw Error(ErrorKind::Io, path.string() + ": no such file");
-    if (fs::is_directory(path, ec)) throw Error(ErrorKind::Io, path.string() + ": is a directory, not a file");
+    if (fs::is_directory(path, ec))
+        throw Error(ErrorKind::Io, path.string() + ": is a directory, not a file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(ErrorKind::Io, path.string() + ": cannot open for reading");
     std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -77,4 +80,4 @@ void refuseToOverwriteInputs(const fs::path& output, const std::vector<fs::path>
     }
 }
 
-} // namespace strata
+}  // namespace strata

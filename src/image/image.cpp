@@ -2,18 +2,18 @@
 
 #include "strata/core/check.h"
 
+#include <sys/mman.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <new>
-#include <sys/mman.h>
 
 namespace strata {
 
 namespace {
 constexpr std::size_t kHugePage = std::size_t{2} << 20;
 constexpr std::size_t kHugeThreshold = std::size_t{4} << 20;
-} // namespace
+}  // namespace
 
 void* Image::allocatePixels(std::size_t bytes) {
     if (bytes < kHugeThreshold) {
@@ -89,4 +89,4 @@ float Image::sample(double u, double v, int c) const {
     return values[c];
 }
 
-} // namespace strata
+}  // namespace strata

@@ -80,7 +80,7 @@ Image applyVertical(const Image& in, const AxisFilter& filter) {
     return out;
 }
 
-} // namespace
+}  // namespace
 
 Image resample(const Image& image, int width, int height) {
     STRATA_CHECK(!image.empty());
@@ -103,7 +103,8 @@ Image luminance(const Image& image) {
     Image out(image.width(), image.height(), 1);
     for (int y = 0; y < image.height(); ++y)
         for (int x = 0; x < image.width(); ++x)
-            out.at(x, y) = 0.2126f * image.at(x, y, 0) + 0.7152f * image.at(x, y, 1) + 0.0722f * image.at(x, y, 2);
+            out.at(x, y) =
+                0.2126f * image.at(x, y, 0) + 0.7152f * image.at(x, y, 1) + 0.0722f * image.at(x, y, 2);
     return out;
 }
 
@@ -136,7 +137,8 @@ Image gaussianBlur(const Image& image, double sigma) {
     auto filterFor = [&](int size) {
         AxisFilter filter(size);
         for (int k = 0; k < size; ++k)
-            for (int i = -radius; i <= radius; ++i) filter[k].push_back({Image::wrap(k + i, size), kernel[i + radius]});
+            for (int i = -radius; i <= radius; ++i)
+                filter[k].push_back({Image::wrap(k + i, size), kernel[i + radius]});
         return filter;
     };
     return applyVertical(applyHorizontal(image, filterFor(image.width())), filterFor(image.height()));
@@ -159,8 +161,9 @@ Image normalizeToUnit(const Image& image, float flatValue) {
     Image out(image.width(), image.height(), 1, flatValue);
     const float span = range.max - range.min;
     if (!(span > 0.0f)) return out;
-    for (std::size_t i = 0; i < out.pixels().size(); ++i) out.pixels()[i] = (image.pixels()[i] - range.min) / span;
+    for (std::size_t i = 0; i < out.pixels().size(); ++i)
+        out.pixels()[i] = (image.pixels()[i] - range.min) / span;
     return out;
 }
 
-} // namespace strata
+}  // namespace strata

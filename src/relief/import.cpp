@@ -195,7 +195,7 @@ Correlation pearson(const Image& a, const Image& b, int c) {
     return {std::clamp(covariance / std::sqrt(varianceA * varianceB), -1.0, 1.0), true};
 }
 
-} // namespace
+}  // namespace
 
 ReliefTexture reliefFromPhoto(const Image& photo, const PhotoImportParams& params) {
     validate(photo, params);
@@ -305,4 +305,4 @@ const char* toString(NormalConvention convention) {
     return "unknown";
 }
 
-} // namespace strata
+}  // namespace strata

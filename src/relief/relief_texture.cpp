@@ -35,7 +35,8 @@ Image normalsFromDepth(const Image& depth, double depthScale) {
     const auto s = static_cast<float>(depthScale);
     for (int y = 0; y < depth.height(); ++y)
         for (int x = 0; x < depth.width(); ++x) {
-            // The relief point is (u, v, -S d): its normal is (S dd/du, S dd/dv, 1), normalised (CONVENTIONS §3).
+            // The relief point is (u, v, -S d): its normal is (S dd/du, S dd/dv, 1), normalised (CONVENTIONS
+            // §3).
             const float nx = s * gradient.at(x, y, 0);
             const float ny = s * gradient.at(x, y, 1);
             const float inv = 1.0f / std::sqrt(nx * nx + ny * ny + 1.0f);
@@ -62,7 +63,8 @@ Image decodeNormals(const Image& encoded, bool flipY) {
             for (int c = 0; c < 3; ++c) n[c] = encoded.at(x, y, c) * 2.0f - 1.0f;
             if (flipY) n[1] = -n[1];
             const float length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-            for (int c = 0; c < 3; ++c) out.at(x, y, c) = length > 0.0f ? n[c] / length : (c == 2 ? 1.0f : 0.0f);
+            for (int c = 0; c < 3; ++c)
+                out.at(x, y, c) = length > 0.0f ? n[c] / length : (c == 2 ? 1.0f : 0.0f);
         }
     return out;
 }
@@ -74,4 +76,4 @@ Image heightToDepth(const Image& height) {
     return out;
 }
 
-} // namespace strata
+}  // namespace strata

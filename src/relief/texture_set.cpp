@@ -8,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
 #include <atomic>
 #include <cmath>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -19,7 +19,9 @@ namespace strata {
 
 namespace {
 
-json sizeOf(const Image& image) { return json::array({image.width(), image.height()}); }
+json sizeOf(const Image& image) {
+    return json::array({image.width(), image.height()});
+}
 
 // Normals at another resolution: resample each component and renormalise.
 Image resampleNormals(const Image& normals, int width, int height) {
@@ -39,7 +41,8 @@ Image resampleNormals(const Image& normals, int width, int height) {
 fs::path existingAncestor(const fs::path& dir) {
     std::error_code ec;
     fs::path parent = fs::absolute(dir, ec).parent_path();
-    while (!parent.empty() && !fs::is_directory(parent, ec) && parent != parent.parent_path()) parent = parent.parent_path();
+    while (!parent.empty() && !fs::is_directory(parent, ec) && parent != parent.parent_path())
+        parent = parent.parent_path();
     return parent.empty() ? fs::path(".") : parent;
 }
 
@@ -54,7 +57,9 @@ public:
         mPath = existingAncestor(dir) / name;
         std::error_code ec;
         fs::create_directories(mPath, ec);
-        if (ec) throw Error(ErrorKind::Io, dir.string() + ": cannot create a staging directory beside it: " + ec.message());
+        if (ec)
+            throw Error(ErrorKind::Io,
+                        dir.string() + ": cannot create a staging directory beside it: " + ec.message());
     }
     ~StagingDir() {
         std::error_code ec;
@@ -68,7 +73,7 @@ private:
     fs::path mPath;
 };
 
-} // namespace
+}  // namespace
 
 Image packRelief(const ReliefTexture& texture) {
     const int width = texture.depth.width();
@@ -94,11 +99,13 @@ Image packRelief(const ReliefTexture& texture) {
 std::vector<fs::path> writeTextureSet(const fs::path& dir, const ReliefTexture& texture,
                                       const TextureSetWriteOptions& options) {
     if (options.bitDepth != 8 && options.bitDepth != 16)
-        throw Error(ErrorKind::InvalidInput, "bit depth must be 8 or 16, got " + std::to_string(options.bitDepth));
+        throw Error(ErrorKind::InvalidInput,
+                    "bit depth must be 8 or 16, got " + std::to_string(options.bitDepth));
     if (texture.depth.empty() || texture.normal.empty())
         throw Error(ErrorKind::InvalidInput, dir.string() + ": a texture set needs depth and normal maps");
     if (!texture.ao.empty() && !options.ao)
-        throw Error(ErrorKind::InvalidInput, dir.string() + ": the AO map needs its record (radius, definition)");
+        throw Error(ErrorKind::InvalidInput,
+                    dir.string() + ": the AO map needs its record (radius, definition)");
 
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
@@ -113,7 +120,8 @@ std::vector<fs::path> writeTextureSet(const fs::path& dir, const ReliefTexture& 
     sidecar["tool"] = std::string("strata ") + kVersion;
     sidecar["depth_scale"] = texture.depthScale;
     sidecar["bit_depth"] = options.bitDepth;
-    sidecar["texture_space"] = "u along +x (tangent), v along +y (bitangent); file row 0 is v = 1; tiles toroidally";
+    sidecar["texture_space"] =
+        "u along +x (tangent), v along +y (bitangent); file row 0 is v = 1; tiles toroidally";
     sidecar["depth"] = {{"file", "depth.png"},
                         {"encoding", "depth"},
                         {"meaning", "0 = polygon surface (top), 1 = deepest; relief point (u, v, -S * d)"},
@@ -125,9 +133,11 @@ std::vector<fs::path> writeTextureSet(const fs::path& dir, const ReliefTexture& 
                          {"source", options.normalSource},
                          {"valid_for_depth_scale", texture.depthScale},
                          {"size", sizeOf(texture.normal)}};
-    sidecar["color"] = texture.color.empty()
-                           ? json(nullptr)
-                           : json{{"file", "color.png"}, {"encoding", "sRGB"}, {"bit_depth", 8}, {"size", sizeOf(texture.color)}};
+    sidecar["color"] = texture.color.empty() ? json(nullptr)
+                                             : json{{"file", "color.png"},
+                                                    {"encoding", "sRGB"},
+                                                    {"bit_depth", 8},
+                                                    {"size", sizeOf(texture.color)}};
     if (texture.ao.empty()) {
         sidecar["ao"] = nullptr;
     } else {
@@ -139,10 +149,11 @@ std::vector<fs::path> writeTextureSet(const fs::path& dir, const ReliefTexture& 
                          {"baked_at_depth_scale", texture.depthScale},
                          {"size", sizeOf(texture.ao)}};
     }
-    sidecar["packed"] = {{"file", "packed.png"},
-                         {"layout", "R = nx * 0.5 + 0.5, G = ny * 0.5 + 0.5, B = AO, A = depth; nz = sqrt(1 - nx^2 - ny^2)"},
-                         {"ao_channel", texture.ao.empty() ? "no AO map: 1.0 (fully open)" : "ao.png"},
-                         {"size", sizeOf(texture.depth)}};
+    sidecar["packed"] = {
+        {"file", "packed.png"},
+        {"layout", "R = nx * 0.5 + 0.5, G = ny * 0.5 + 0.5, B = AO, A = depth; nz = sqrt(1 - nx^2 - ny^2)"},
+        {"ao_channel", texture.ao.empty() ? "no AO map: 1.0 (fully open)" : "ao.png"},
+        {"size", sizeOf(texture.depth)}};
     try {
         sidecar["source"] = json::parse(options.sourceJson);
     } catch (const json::exception&) {
@@ -170,11 +181,13 @@ std::vector<fs::path> writeTextureSet(const fs::path& dir, const ReliefTexture& 
     // The sidecar moves in last: it is what says which maps belong to the set, so files in `dir`
     // that this set does not name (an older colour map, a user's own file) are left alone.
     fs::create_directories(dir, ec);
-    if (ec) throw Error(ErrorKind::Io, dir.string() + ": cannot create the output directory: " + ec.message());
+    if (ec)
+        throw Error(ErrorKind::Io, dir.string() + ": cannot create the output directory: " + ec.message());
     std::vector<fs::path> written;
     for (const std::string& name : names) {
         fs::rename(staging.path() / name, dir / name, ec);
-        if (ec) throw Error(ErrorKind::Io, (dir / name).string() + ": cannot move into place: " + ec.message());
+        if (ec)
+            throw Error(ErrorKind::Io, (dir / name).string() + ": cannot move into place: " + ec.message());
         written.push_back(dir / name);
     }
     return written;
@@ -190,8 +203,9 @@ json readSidecar(const fs::path& path) {
         throw Error(ErrorKind::InvalidInput, file.string() + ": not valid JSON: " + e.what());
     }
     if (!sidecar.is_object() || sidecar.value("format", "") != kSidecarFormat)
-        throw Error(ErrorKind::InvalidInput,
-                    file.string() + ": not a Strata texture-set sidecar (\"format\" is not \"" + kSidecarFormat + "\")");
+        throw Error(ErrorKind::InvalidInput, file.string() +
+                                                 ": not a Strata texture-set sidecar (\"format\" is not \"" +
+                                                 kSidecarFormat + "\")");
     return sidecar;
 }
 
@@ -203,19 +217,22 @@ ReliefTexture readTextureSet(const fs::path& path) {
         const auto it = sidecar.find(key);
         if (it == sidecar.end() || it->is_null()) return std::nullopt;
         if (!it->is_object() || !it->contains("file") || !(*it)["file"].is_string())
-            throw Error(ErrorKind::InvalidInput, sidecarPath.string() + ": \"" + key + "\" has no \"file\" string");
+            throw Error(ErrorKind::InvalidInput,
+                        sidecarPath.string() + ": \"" + key + "\" has no \"file\" string");
         return dir / (*it)["file"].get<std::string>();
     };
     ReliefTexture texture;
     try {
         texture.depthScale = sidecar.at("depth_scale").get<double>();
     } catch (const json::exception&) {
-        throw Error(ErrorKind::InvalidInput, sidecarPath.string() + ": \"depth_scale\" is missing or not a number");
+        throw Error(ErrorKind::InvalidInput,
+                    sidecarPath.string() + ": \"depth_scale\" is missing or not a number");
     }
     const auto depthFile = fileOf("depth");
     const auto normalFile = fileOf("normal");
     if (!depthFile || !normalFile)
-        throw Error(ErrorKind::InvalidInput, sidecarPath.string() + ": a texture set needs \"depth\" and \"normal\"");
+        throw Error(ErrorKind::InvalidInput,
+                    sidecarPath.string() + ": a texture set needs \"depth\" and \"normal\"");
     texture.depth = readScalarMap(*depthFile);
     texture.normal = decodeNormals(readImage(*normalFile));
     if (const auto colorFile = fileOf("color")) {
@@ -225,4 +242,4 @@ ReliefTexture readTextureSet(const fs::path& path) {
     return texture;
 }
 
-} // namespace strata
+}  // namespace strata

@@ -14,21 +14,24 @@ namespace {
 
 using test::runCli;
 
-std::string quoted(const std::filesystem::path& path) { return "\"" + path.string() + "\""; }
+std::string quoted(const std::filesystem::path& path) {
+    return "\"" + path.string() + "\"";
+}
 
 TEST(Cli, HelpAndUsageExitCodes) {
     EXPECT_EQ(runCli("--help").exitCode, 0);
     EXPECT_EQ(runCli("compose --help").exitCode, 0);
-    EXPECT_EQ(runCli("").exitCode, 1);               // a subcommand is required
+    EXPECT_EQ(runCli("").exitCode, 1);  // a subcommand is required
     EXPECT_EQ(runCli("frobnicate").exitCode, 1);
     EXPECT_EQ(runCli("pattern base --size 10 -o x").exitCode, 1);  // out of the documented range
-    EXPECT_EQ(runCli("pattern base").exitCode, 1);   // no -o
+    EXPECT_EQ(runCli("pattern base").exitCode, 1);                 // no -o
 }
 
 TEST(Cli, PatternListNamesEveryPattern) {
     const auto result = runCli("pattern --list");
     EXPECT_EQ(result.exitCode, 0);
-    for (const auto& info : patternList()) EXPECT_NE(result.output.find(info.name), std::string::npos) << info.name;
+    for (const auto& info : patternList())
+        EXPECT_NE(result.output.find(info.name), std::string::npos) << info.name;
 }
 
 TEST(Cli, PatternWritesTheLayoutAndMatchesTheLibrary) {
@@ -67,7 +70,8 @@ TEST(Cli, ComposeWritesASetAndWarnsAboutFractionalTiling) {
 
 TEST(Cli, ARejectedMaterialWritesNothing) {
     test::ScratchDir dir("cli-reject");
-    test::writeBytes(dir / "m.json", R"({"layers": [{"pattern": "base", "size": 64, "weight_depth": -0.3}]})");
+    test::writeBytes(dir / "m.json",
+                     R"({"layers": [{"pattern": "base", "size": 64, "weight_depth": -0.3}]})");
     const auto result = runCli("compose " + quoted(dir / "m.json") + " -o " + quoted(dir / "out"));
     EXPECT_EQ(result.exitCode, 3);
     EXPECT_NE(result.output.find("layers[0].weight_depth"), std::string::npos) << result.output;
@@ -77,9 +81,11 @@ TEST(Cli, ARejectedMaterialWritesNothing) {
 
 TEST(Cli, ImportErrorsAreDocumentedCodesAndLeaveNothing) {
     test::ScratchDir dir("cli-import");
-    EXPECT_EQ(runCli("import --height " + quoted(dir / "missing.png") + " -o " + quoted(dir / "out")).exitCode, 2);
+    EXPECT_EQ(
+        runCli("import --height " + quoted(dir / "missing.png") + " -o " + quoted(dir / "out")).exitCode, 2);
     test::writeBytes(dir / "text.png", "this is a text file, not a PNG\n");
-    const auto notImage = runCli("import --height " + quoted(dir / "text.png") + " -o " + quoted(dir / "out"));
+    const auto notImage =
+        runCli("import --height " + quoted(dir / "text.png") + " -o " + quoted(dir / "out"));
     EXPECT_EQ(notImage.exitCode, 3);
     EXPECT_NE(notImage.output.find("text.png"), std::string::npos);
     EXPECT_FALSE(std::filesystem::exists(dir / "out"));
@@ -114,14 +120,16 @@ TEST(Cli, CheckNormalReportsTheConvention) {
     writePng(dir / "depth.png", texture.depth);
     writePng(dir / "gl.png", encodeNormals(texture.normal));
     writePng(dir / "dx.png", encodeNormals(decodeNormals(encodeNormals(texture.normal), true)));
-    const auto gl = runCli("import --depth " + quoted(dir / "depth.png") + " --check-normal " + quoted(dir / "gl.png"));
+    const auto gl =
+        runCli("import --depth " + quoted(dir / "depth.png") + " --check-normal " + quoted(dir / "gl.png"));
     EXPECT_EQ(gl.exitCode, 0) << gl.output;
     EXPECT_NE(gl.output.find("OpenGL"), std::string::npos) << gl.output;
-    const auto dx = runCli("import --depth " + quoted(dir / "depth.png") + " --check-normal " + quoted(dir / "dx.png"));
+    const auto dx =
+        runCli("import --depth " + quoted(dir / "depth.png") + " --check-normal " + quoted(dir / "dx.png"));
     EXPECT_NE(dx.output.find("DirectX"), std::string::npos) << dx.output;
     // --normal-y auto converts the DirectX map: the imported normals match the OpenGL original.
-    const auto imported = runCli("import --depth " + quoted(dir / "depth.png") + " --normal " + quoted(dir / "dx.png") +
-                                 " --normal-y auto -o " + quoted(dir / "set"));
+    const auto imported = runCli("import --depth " + quoted(dir / "depth.png") + " --normal " +
+                                 quoted(dir / "dx.png") + " --normal-y auto -o " + quoted(dir / "set"));
     ASSERT_EQ(imported.exitCode, 0) << imported.output;
     EXPECT_LE(test::maxAbsDiff(readTextureSet(dir / "set").normal, texture.normal), 1e-4);
 }
@@ -149,5 +157,5 @@ TEST(Cli, TheShippedExamplesCompose) {
     }
 }
 
-} // namespace
-} // namespace strata
+}  // namespace
+}  // namespace strata

@@ -28,7 +28,8 @@ ReliefTexture noiseLayer(int size, unsigned seed) {
     texture.color = Image(size, size, 3);
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x)
-            for (int c = 0; c < 3; ++c) texture.color.at(x, y, c) = texture.depth.at(x, y) * (0.3f + 0.3f * static_cast<float>(c));
+            for (int c = 0; c < 3; ++c)
+                texture.color.at(x, y, c) = texture.depth.at(x, y) * (0.3f + 0.3f * static_cast<float>(c));
     return texture;
 }
 
@@ -38,7 +39,9 @@ ReliefTexture analyticLayer(int size, F depthOf) {
     ReliefTexture texture;
     texture.depth = Image(size, size, 1);
     for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x) texture.depth.at(x, y) = static_cast<float>(depthOf(texture.depth.texelU(x), texture.depth.texelV(y)));
+        for (int x = 0; x < size; ++x)
+            texture.depth.at(x, y) =
+                static_cast<float>(depthOf(texture.depth.texelU(x), texture.depth.texelV(y)));
     texture.normal = normalsFromDepth(texture.depth, texture.depthScale);
     return texture;
 }
@@ -61,8 +64,10 @@ Jumps jumps(const Image& image) {
         for (int x = 0; x < w; ++x) {
             const double right = std::fabs(image.at(x, y) - image.atWrapped(x + 1, y));
             const double down = std::fabs(image.at(x, y) - image.atWrapped(x, y + 1));
-            (x + 1 == w ? result.border : result.interior) = std::max(x + 1 == w ? result.border : result.interior, right);
-            (y + 1 == h ? result.border : result.interior) = std::max(y + 1 == h ? result.border : result.interior, down);
+            (x + 1 == w ? result.border : result.interior) =
+                std::max(x + 1 == w ? result.border : result.interior, right);
+            (y + 1 == h ? result.border : result.interior) =
+                std::max(y + 1 == h ? result.border : result.interior, down);
         }
     return result;
 }
@@ -114,7 +119,8 @@ TEST(Compose, TilingTwoAtTwiceTheResolutionIsTheLayerSampledAtTwiceUv) {
         for (int x = 0; x < 32; ++x) {
             const double u = result.texture.depth.texelU(x);
             const double v = result.texture.depth.texelV(y);
-            worst = std::max(worst, static_cast<double>(std::fabs(result.texture.depth.at(x, y) - input.depth.sample(2.0 * u, 2.0 * v))));
+            worst = std::max(worst, static_cast<double>(std::fabs(result.texture.depth.at(x, y) -
+                                                                  input.depth.sample(2.0 * u, 2.0 * v))));
         }
     // Both are the same bilinear formula at the same point; only float rounding may differ.
     EXPECT_LE(worst, 1e-6);
@@ -129,10 +135,10 @@ TEST(Compose, FractionalTilingSamplesAtTilingTimesUv) {
     double worst = 0.0;
     for (int y = 0; y < 40; ++y)
         for (int x = 0; x < 40; ++x)
-            worst = std::max(worst, static_cast<double>(std::fabs(
-                                        result.texture.depth.at(x, y) -
-                                        input.depth.sample(5.5 * result.texture.depth.texelU(x),
-                                                           5.5 * result.texture.depth.texelV(y)))));
+            worst = std::max(worst, static_cast<double>(
+                                        std::fabs(result.texture.depth.at(x, y) -
+                                                  input.depth.sample(5.5 * result.texture.depth.texelU(x),
+                                                                     5.5 * result.texture.depth.texelV(y)))));
     EXPECT_LE(worst, 1e-6);  // same formula, float rounding only
     ASSERT_EQ(result.warnings.size(), 1u);
     EXPECT_NE(result.warnings[0].find("5.5"), std::string::npos);
@@ -141,7 +147,9 @@ TEST(Compose, FractionalTilingSamplesAtTilingTimesUv) {
 TEST(Compose, IntegerTilingsAreSeamlessAndFractionalOnesAreNot) {
     // Smooth periodic layers at different resolutions; cos() makes a cut at the border show as a jump.
     auto wave = [](int a, int b) {
-        return [a, b](double u, double v) { return 0.5 + 0.5 * std::cos(2 * kPi * a * u) * std::cos(2 * kPi * b * v); };
+        return [a, b](double u, double v) {
+            return 0.5 + 0.5 * std::cos(2 * kPi * a * u) * std::cos(2 * kPi * b * v);
+        };
     };
     ComposeParams params;
     params.resolution = 96;
@@ -194,7 +202,8 @@ TEST(Compose, ConsistentNormalsIncludeTheTilingSteepening) {
     // d(u) = 0.5 + 0.5 sin(2 pi u) tiled twice: D(u) = d(2u), dD/du = 2 pi cos(4 pi u), at S = 0.05.
     const int size = 256;
     const double s = 0.05;
-    const ReliefTexture layer = analyticLayer(size, [](double u, double) { return 0.5 + 0.5 * std::sin(2 * kPi * u); });
+    const ReliefTexture layer =
+        analyticLayer(size, [](double u, double) { return 0.5 + 0.5 * std::sin(2 * kPi * u); });
     const std::vector<CompositionLayer> layers{layerOf(layer, 2.0, 1.0, 1.0)};
     ComposeParams params;
     params.resolution = size;
@@ -226,7 +235,8 @@ TEST(Compose, ConsistentNormalsIncludeTheTilingSteepening) {
         maxPaper = std::max(maxPaper, std::fabs(paper.texture.normal.at(x, 7, 0)));
         maxConsistent = std::max(maxConsistent, std::fabs(result.texture.normal.at(x, 7, 0)));
     }
-    // Layer normals were made at its own S = 0.08: max slope 0.08 * pi = 0.251; consistent: 0.05 * 2 * 2pi * 0.5 = 0.314.
+    // Layer normals were made at its own S = 0.08: max slope 0.08 * pi = 0.251; consistent: 0.05 * 2 * 2pi *
+    // 0.5 = 0.314.
     EXPECT_NEAR(maxPaper, 0.251 / std::sqrt(1 + 0.251 * 0.251), 2e-3);
     EXPECT_NEAR(maxConsistent, 0.314 / std::sqrt(1 + 0.314 * 0.314), 2e-3);
 }
@@ -239,7 +249,8 @@ TEST(Compose, OutputResolutionDefaultsToTheLargestLayer) {
     EXPECT_EQ(compose(layers, params).texture.depth.width(), 24);
 }
 
-void expectInvalid(const std::vector<CompositionLayer>& layers, const ComposeParams& params, const std::string& mention) {
+void expectInvalid(const std::vector<CompositionLayer>& layers, const ComposeParams& params,
+                   const std::string& mention) {
     try {
         compose(layers, params);
         FAIL() << "expected an error mentioning " << mention;
@@ -250,7 +261,8 @@ void expectInvalid(const std::vector<CompositionLayer>& layers, const ComposePar
 }
 
 TEST(Compose, BadParametersAreClearErrors) {
-    std::vector<CompositionLayer> layers{layerOf(noiseLayer(8, 1), 1.0, 1.0, 1.0), layerOf(noiseLayer(8, 2), 2.0, 1.0, 1.0)};
+    std::vector<CompositionLayer> layers{layerOf(noiseLayer(8, 1), 1.0, 1.0, 1.0),
+                                         layerOf(noiseLayer(8, 2), 2.0, 1.0, 1.0)};
     layers[1].label = "layers[1] (fabric)";
     ComposeParams params;
     params.colorFrom = -1;
@@ -292,5 +304,5 @@ TEST(Compose, AngleBetweenMeasuresDegrees) {
     EXPECT_NEAR(angleBetween(a, b).meanDegrees, 30.0, 1e-4);
 }
 
-} // namespace
-} // namespace strata
+}  // namespace
+}  // namespace strata

@@ -68,7 +68,8 @@ TEST_F(MaterialTest, TheIssuesExampleParsesAndComposes) {
 }
 
 TEST_F(MaterialTest, APatternLayerEqualsThePatternWithTheSameDefaults) {
-    const Material material = parseMaterial(json::parse(R"({"layers": [{"pattern": "base", "size": 128}]})"), materialPath());
+    const Material material =
+        parseMaterial(json::parse(R"({"layers": [{"pattern": "base", "size": 128}]})"), materialPath());
     const std::vector<CompositionLayer> layers = loadLayers(material);
     PatternParams params;
     params.size = 128;
@@ -81,7 +82,8 @@ TEST_F(MaterialTest, APatternLayerEqualsThePatternWithTheSameDefaults) {
 TEST_F(MaterialTest, AHeightLayerIsReadAsOneMinusHeight) {
     Image height(64, 64, 1, 0.25f);
     writePng(dir / "h.png", height);
-    const Material material = parseMaterial(json::parse(R"({"layers": [{"height": "h.png"}]})"), materialPath());
+    const Material material =
+        parseMaterial(json::parse(R"({"layers": [{"height": "h.png"}]})"), materialPath());
     const auto layers = loadLayers(material);
     EXPECT_NEAR(layers[0].texture.depth.at(3, 3), 0.75f, 1.0 / 65535);  // one 16-bit step
 }
@@ -161,5 +163,5 @@ TEST_F(MaterialTest, InputsListTheMaterialAndItsFiles) {
     EXPECT_EQ(inputs.size(), 4u);  // material, depth, normal, colour
 }
 
-} // namespace
-} // namespace strata
+}  // namespace
+}  // namespace strata

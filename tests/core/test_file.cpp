@@ -26,8 +26,9 @@ TEST(File, AtomicWriteAppearsWholeOrNotAtAll) {
     EXPECT_FALSE(std::filesystem::exists(dir / "b.txt"));
     EXPECT_EQ(test::countEntries(dir.path()), 1);
     // A failed rewrite keeps the old content.
-    EXPECT_THROW(writeFileAtomic(dir / "a.txt", [](const std::filesystem::path&) { throw std::runtime_error("x"); }),
-                 std::runtime_error);
+    EXPECT_THROW(
+        writeFileAtomic(dir / "a.txt", [](const std::filesystem::path&) { throw std::runtime_error("x"); }),
+        std::runtime_error);
     EXPECT_EQ(readTextFile(dir / "a.txt"), "hello");
 }
 
@@ -72,5 +73,5 @@ TEST(Error, KindsMapToTheDocumentedExitCodes) {
     EXPECT_EQ(formatNumber(-1.0), "-1");
 }
 
-} // namespace
-} // namespace strata
+}  // namespace
+}  // namespace strata

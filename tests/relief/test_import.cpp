@@ -403,5 +403,5 @@ TEST(ImportConvention, Names) {
     EXPECT_STREQ(toString(NormalConvention::Unknown), "unknown");
 }
 
-} // namespace
-} // namespace strata
+}  // namespace
+}  // namespace strata

@@ -230,5 +230,5 @@ TEST(NormalsHeightToDepth, IsOneMinusAndItsOwnInverse) {
     EXPECT_EQ(heightToDepth(depth), height);  // 1 - (1 - h) is exact for these binary fractions
 }
 
-} // namespace
-} // namespace strata
+}  // namespace
+}  // namespace strata

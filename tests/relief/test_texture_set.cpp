@@ -124,5 +124,5 @@ TEST(TextureSet, ASidecarOfAnotherKindIsRejected) {
     }
 }
 
-} // namespace
-} // namespace strata
+}  // namespace
+}  // namespace strata

@@ -2,13 +2,13 @@
 
 #include "strata/core/check.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -60,4 +60,4 @@ double maxAbsDiff(const Image& a, const Image& b) {
     return worst;
 }
 
-} // namespace strata::test
+}  // namespace strata::test

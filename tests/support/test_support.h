@@ -39,4 +39,4 @@ int countEntries(const std::filesystem::path& dir);
 // Largest absolute difference between two images of the same shape (checked).
 double maxAbsDiff(const Image& a, const Image& b);
 
-} // namespace strata::test
+}  // namespace strata::test

@@ -42,10 +42,11 @@ enum class NormalMode {
 };
 
 struct ComposeParams {
-    int resolution = 0;                      // output width = height in texels; 0 = the largest layer depth width
-    double depthScale = kDefaultDepthScale;  // output S (tile widths): the consistent normals' S, recorded in the set
+    int resolution = 0;  // output width = height in texels; 0 = the largest layer depth width
+    double depthScale =
+        kDefaultDepthScale;  // output S (tile widths): the consistent normals' S, recorded in the set
     NormalMode normals = NormalMode::Paper;
-    int colorFrom = 0;                       // index of the layer whose colour map is used; -1 = no colour
+    int colorFrom = 0;  // index of the layer whose colour map is used; -1 = no colour
 };
 
 struct Composition {
@@ -76,4 +77,4 @@ const char* toString(NormalMode mode);
 // "paper" or "consistent"; throws Error(InvalidInput) for anything else.
 NormalMode parseNormalMode(const std::string& text);
 
-} // namespace strata
+}  // namespace strata

@@ -3,8 +3,9 @@
 //
 //   { "resolution": 1024, "depth_scale": 0.08, "normals": "paper", "color_from": 1,
 //     "layers": [
-//       { "pattern": "base", "size": 1024, "seed": 1, "tiling": 1.0, "weight_depth": 1.0, "weight_normal": 1.0 },
-//       { "depth": "fabric_depth.png", "normal": "fabric_normal.png", "color": "fabric.png",
+//       { "pattern": "base", "size": 1024, "seed": 1, "tiling": 1.0, "weight_depth": 1.0,
+//       "weight_normal": 1.0 }, { "depth": "fabric_depth.png", "normal": "fabric_normal.png", "color":
+//       "fabric.png",
 //         "tiling": 5.5, "weight_depth": 0.3, "weight_normal": 0.3 } ] }
 //
 // A layer is either a built-in pattern ("pattern", with "size", "seed", "depth_scale" defaulting to the
@@ -34,17 +35,17 @@
 namespace strata {
 
 struct MaterialLayer {
-    std::string name;                      // optional label ("name"), used in messages
+    std::string name;  // optional label ("name"), used in messages
     // Pattern layer.
-    std::optional<std::string> pattern;    // "pattern": a name from patternList()
-    PatternParams patternParams;           // "size", "seed", "depth_scale"
+    std::optional<std::string> pattern;  // "pattern": a name from patternList()
+    PatternParams patternParams;         // "size", "seed", "depth_scale"
     // File layer (paths already resolved against the material's directory).
     std::optional<std::filesystem::path> depthFile;   // "depth": d in [0, 1], 0 = top
     std::optional<std::filesystem::path> heightFile;  // "height": white = high, d = 1 - h
     std::optional<std::filesystem::path> normalFile;  // "normal"
     bool normalYDown = false;                         // "normal_y": "up" (OpenGL, default) | "down" (DirectX)
-    std::optional<double> fileDepthScale;             // "depth_scale": the S the layer's normal map was made for
-    std::optional<std::filesystem::path> colorFile;   // "color"
+    std::optional<double> fileDepthScale;  // "depth_scale": the S the layer's normal map was made for
+    std::optional<std::filesystem::path> colorFile;  // "color"
     // Combination (paper Eq. 1, 2).
     double tiling = 1.0;        // "tiling": > 0
     double weightDepth = 1.0;   // "weight_depth": >= 0
@@ -74,4 +75,4 @@ std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<s
 // All input files a material reads (for the never-overwrite-an-input check).
 std::vector<std::filesystem::path> materialInputs(const Material& material);
 
-} // namespace strata
+}  // namespace strata

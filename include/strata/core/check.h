@@ -17,20 +17,19 @@ template <typename A, typename B>
     checkFailed(file, line, out.str());
 }
 
-} // namespace strata::detail
+}  // namespace strata::detail
 
-#define STRATA_CHECK(cond)                                                                         \
-    do {                                                                                           \
-        if (!(cond)) ::strata::detail::checkFailed(__FILE__, __LINE__, #cond);                     \
+#define STRATA_CHECK(cond)                                                     \
+    do {                                                                       \
+        if (!(cond)) ::strata::detail::checkFailed(__FILE__, __LINE__, #cond); \
     } while (false)
 
-#define STRATA_CHECK_OP(a, op, b)                                                                  \
-    do {                                                                                           \
-        const auto& strataA_ = (a);                                                                \
-        const auto& strataB_ = (b);                                                                \
-        if (!(strataA_ op strataB_))                                                               \
-            ::strata::detail::checkOpFailed(__FILE__, __LINE__, #a " " #op " " #b, strataA_,       \
-                                            strataB_);                                             \
+#define STRATA_CHECK_OP(a, op, b)                                                                       \
+    do {                                                                                                \
+        const auto& strataA_ = (a);                                                                     \
+        const auto& strataB_ = (b);                                                                     \
+        if (!(strataA_ op strataB_))                                                                    \
+            ::strata::detail::checkOpFailed(__FILE__, __LINE__, #a " " #op " " #b, strataA_, strataB_); \
     } while (false)
 
 #define STRATA_CHECK_EQ(a, b) STRATA_CHECK_OP(a, ==, b)

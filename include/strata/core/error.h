@@ -12,15 +12,18 @@ namespace strata {
 
 // The kinds of failure, with the `strata` CLI exit code of each (docs/cli.md lists them).
 enum class ErrorKind {
-    Usage = 1,        // the command line is wrong: unknown flag, missing argument
-    Io = 2,           // a file or directory cannot be read or written
-    InvalidInput = 3, // the input was read but its content is wrong: corrupt image, bad JSON key, negative weight
-    Runtime = 4,      // something failed while working on valid input
+    Usage = 1,  // the command line is wrong: unknown flag, missing argument
+    Io = 2,     // a file or directory cannot be read or written
+    InvalidInput =
+        3,        // the input was read but its content is wrong: corrupt image, bad JSON key, negative weight
+    Runtime = 4,  // something failed while working on valid input
     Unsupported = 5,  // a valid input that Strata does not handle: an image format variant, a bit depth
 };
 
 // The exit code the CLI returns for an error of this kind.
-constexpr int exitCode(ErrorKind kind) { return static_cast<int>(kind); }
+constexpr int exitCode(ErrorKind kind) {
+    return static_cast<int>(kind);
+}
 
 const char* toString(ErrorKind kind);
 
@@ -36,4 +39,4 @@ private:
     ErrorKind mKind;
 };
 
-} // namespace strata
+}  // namespace strata

@@ -27,4 +27,4 @@ std::string readTextFile(const std::filesystem::path& path);
 void refuseToOverwriteInputs(const std::filesystem::path& output,
                              const std::vector<std::filesystem::path>& inputs);
 
-} // namespace strata
+}  // namespace strata

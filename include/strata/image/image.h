@@ -107,9 +107,7 @@ private:
     struct UninitializedTag {};
     Image(int width, int height, int channels, UninitializedTag);
 
-    std::size_t index(int x, int y) const {
-        return (static_cast<std::size_t>(y) * mWidth + x) * mChannels;
-    }
+    std::size_t index(int x, int y) const { return (static_cast<std::size_t>(y) * mWidth + x) * mChannels; }
 
     int mWidth = 0;
     int mHeight = 0;
@@ -117,4 +115,4 @@ private:
     std::vector<float, DefaultInitAllocator<float>> mPixels;
 };
 
-} // namespace strata
+}  // namespace strata

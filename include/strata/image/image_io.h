@@ -71,4 +71,4 @@ void writeImage(const std::filesystem::path& path, const Image& image, const Png
 
 const char* toString(ImageFormat format);
 
-} // namespace strata
+}  // namespace strata

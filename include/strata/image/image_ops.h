@@ -41,4 +41,4 @@ ValueRange valueRange(const Image& image, int channel = 0);
 // Linearly maps channel 0 of a 1-channel image to [0, 1]; a constant image becomes all `flatValue`.
 Image normalizeToUnit(const Image& image, float flatValue = 0.0f);
 
-} // namespace strata
+}  // namespace strata

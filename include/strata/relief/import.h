@@ -105,4 +105,4 @@ NormalConventionReport detectNormalConvention(const Image& normals, const Image&
 // "OpenGL", "DirectX", "unknown".
 const char* toString(NormalConvention convention);
 
-} // namespace strata
+}  // namespace strata

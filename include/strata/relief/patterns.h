@@ -13,8 +13,8 @@
 namespace strata {
 
 struct PatternParams {
-    int size = 512;              // width = height, texels; [kMinPatternSize, kMaxPatternSize]
-    std::uint32_t seed = 1;      // every random choice derives from this
+    int size = 512;                          // width = height, texels; [kMinPatternSize, kMaxPatternSize]
+    std::uint32_t seed = 1;                  // every random choice derives from this
     double depthScale = kDefaultDepthScale;  // S for the normal map (CONVENTIONS §2, §3)
 };
 
@@ -40,4 +40,4 @@ bool isPattern(const std::string& name);
 // or a depth scale that is not positive and finite.
 ReliefTexture makePattern(const std::string& name, const PatternParams& params = {});
 
-} // namespace strata
+}  // namespace strata

@@ -42,4 +42,4 @@ Image decodeNormals(const Image& encoded, bool flipY = false);
 // d = 1 - h for a height map (white = high) and back; the same function both ways.
 Image heightToDepth(const Image& height);
 
-} // namespace strata
+}  // namespace strata

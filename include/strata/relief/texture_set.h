@@ -29,11 +29,12 @@ inline constexpr const char* kSidecarFormat = "strata.texture-set";
 
 // How the AO map of a set was made (recorded in the sidecar; CONVENTIONS §4, §6).
 struct AoRecord {
-    double radius = 1.0;            // R, tile widths
-    std::string definition = "cosine-weighted visible fraction of the hemisphere around the "
-                             "reference-plane normal (+z), toroidal, within R";
-    std::string method;             // e.g. "sweep"
-    int directions = 0;             // M, 0 = not applicable
+    double radius = 1.0;  // R, tile widths
+    std::string definition =
+        "cosine-weighted visible fraction of the hemisphere around the "
+        "reference-plane normal (+z), toroidal, within R";
+    std::string method;  // e.g. "sweep"
+    int directions = 0;  // M, 0 = not applicable
 };
 
 struct TextureSetWriteOptions {
@@ -52,7 +53,8 @@ struct TextureSetWriteOptions {
 // beside `dir` and then moved in, the sidecar last, so a failure leaves no partial set behind.
 // Returns the paths written. Throws Error(Io) if a file cannot be written or would overwrite an input,
 // Error(InvalidInput) for a bit depth other than 8 or 16 or a texture without depth or normals.
-std::vector<std::filesystem::path> writeTextureSet(const std::filesystem::path& dir, const ReliefTexture& texture,
+std::vector<std::filesystem::path> writeTextureSet(const std::filesystem::path& dir,
+                                                   const ReliefTexture& texture,
                                                    const TextureSetWriteOptions& options = {});
 
 // Reads a set written by writeTextureSet (its sidecar says which files exist; depth and normal are
@@ -66,4 +68,4 @@ nlohmann::json readSidecar(const std::filesystem::path& path);
 // packed.png's content (CONVENTIONS §5) as a 4-channel image at the depth map's resolution.
 Image packRelief(const ReliefTexture& texture);
 
-} // namespace strata
+}  // namespace strata
