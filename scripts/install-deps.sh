@@ -9,8 +9,8 @@ packages=(
   cmake ninja-build g++-12 pkg-config
   # core libraries
   libpng-dev libstb-dev libtinyexr-dev libglm-dev libeigen3-dev libcli11-dev nlohmann-json3-dev libtbb-dev
-  # tests and benchmarks
-  libgtest-dev libbenchmark-dev
+  # tests and benchmarks; glslangValidator checks every shader
+  libgtest-dev libbenchmark-dev glslang-tools
 )
 
 missing=()
