@@ -35,26 +35,13 @@ struct ImportOptions {
 };
 
 Image readDepthInput(const ImportOptions& options, nlohmann::json& source) {
+    const bool height = !options.height.empty();
     std::string readNote;
-    Image depth;
-    if (!options.height.empty()) {
-        depth = heightToDepth(readScalarMap(options.height, &readNote));
-        source["height"] = options.height.string();
-    } else {
-        depth = readScalarMap(options.depth, &readNote);
-        source["depth"] = options.depth.string();
-    }
+    Image depth = readDepthMap(height ? options.height : options.depth,
+                               height ? DepthEncoding::Height : DepthEncoding::Depth, &readNote);
+    source[height ? "height" : "depth"] = (height ? options.height : options.depth).string();
     if (!readNote.empty()) note(readNote);
     return depth;
-}
-
-NormalConventionReport checkConvention(const fs::path& normalFile, const Image& depth) {
-    const Image encoded = readImage(normalFile);
-    if (encoded.channels() < 3)
-        throw Error(ErrorKind::InvalidInput, normalFile.string() +
-                                                 ": a normal map needs 3 channels (RGB), it has " +
-                                                 std::to_string(encoded.channels()));
-    return detectNormalConvention(decodeNormals(encoded, false), depth);
 }
 
 void runImport(ImportOptions options) {
@@ -67,7 +54,8 @@ void runImport(ImportOptions options) {
         if (!options.photo.empty())
             throw Error(ErrorKind::Usage, "import: --check-normal needs --height or --depth");
         const Image depth = readDepthInput(options, source);
-        const NormalConventionReport report = checkConvention(options.checkNormal, depth);
+        const NormalConventionReport report =
+            detectNormalConvention(readNormalMap(options.checkNormal), depth);
         std::cout << options.checkNormal.string() << ": " << report.summary << "\n";
         return;
     }
@@ -94,13 +82,9 @@ void runImport(ImportOptions options) {
         texture.depthScale = options.depthScale;
         inputs.push_back(options.height.empty() ? options.depth : options.height);
         if (!options.normal.empty()) {
-            const Image encoded = readImage(options.normal);
-            if (encoded.channels() < 3)
-                throw Error(ErrorKind::InvalidInput, options.normal.string() +
-                                                         ": a normal map needs 3 channels (RGB), it has " +
-                                                         std::to_string(encoded.channels()));
-            const NormalConventionReport report =
-                detectNormalConvention(decodeNormals(encoded, false), texture.depth);
+            // Read as stored (no flip) to judge the convention, then convert if needed.
+            texture.normal = readNormalMap(options.normal);
+            const NormalConventionReport report = detectNormalConvention(texture.normal, texture.depth);
             bool flipY = options.normalY == "down";
             if (options.normalY == "auto") {
                 if (report.convention == NormalConvention::Unknown)
@@ -114,7 +98,9 @@ void runImport(ImportOptions options) {
                 warn(options.normal.string() + ": read with --normal-y " + options.normalY + ", but " +
                      report.summary);
             }
-            texture.normal = decodeNormals(encoded, flipY);
+            if (flipY)  // DirectX -> OpenGL: green points down; negating y keeps the vector unit length
+                for (int y = 0; y < texture.normal.height(); ++y)
+                    for (int x = 0; x < texture.normal.width(); ++x) texture.normal.at(x, y, 1) *= -1.0f;
             normalSource = flipY ? "file (DirectX, converted to OpenGL)" : "file (OpenGL)";
             source["normal"] = options.normal.string();
             inputs.push_back(options.normal);

@@ -24,7 +24,13 @@ std::string layerName(std::span<const CompositionLayer> layers, std::size_t i) {
     return layers[i].label.empty() ? "layer " + std::to_string(i) : layers[i].label;
 }
 
-void validate(std::span<const CompositionLayer> layers, const ComposeParams& params) {
+struct WeightSums {
+    double depth;
+    double normal;
+};
+
+// Checks everything compose() relies on and returns the weight sums it computed on the way.
+WeightSums validate(std::span<const CompositionLayer> layers, const ComposeParams& params) {
     if (layers.empty()) invalid("a meta-relief needs at least one layer");
     double sumDepth = 0.0;
     double sumNormal = 0.0;
@@ -67,6 +73,7 @@ void validate(std::span<const CompositionLayer> layers, const ComposeParams& par
         invalid("color_from must be a layer index >= 0, or -1 for none, got " +
                 std::to_string(params.colorFrom));
     }
+    return {sumDepth, sumNormal};
 }
 
 // Where output texel k of an axis of `outSize` texels lands in a layer axis of `layerSize` texels
@@ -176,7 +183,7 @@ Composition compose(std::span<const CompositionLayer> layers, const ComposeParam
 }
 
 void composeInto(std::span<const CompositionLayer> layers, const ComposeParams& params, Composition& result) {
-    validate(layers, params);
+    const WeightSums sums = validate(layers, params);
     result.warnings.clear();
 
     int size = params.resolution;
@@ -190,13 +197,6 @@ void composeInto(std::span<const CompositionLayer> layers, const ComposeParams& 
                 " is not an integer, so the baked texture does not tile (the layer is cut at the tile "
                 "border). "
                 "The renderer's live meta-relief path samples layers per fragment and has no such seam.");
-
-    double sumDepth = 0.0;
-    double sumNormal = 0.0;
-    for (const auto& layer : layers) {
-        sumDepth += layer.weightDepth;
-        sumNormal += layer.weightNormal;
-    }
 
     // Per-layer sampling plans. Consistent normals need each layer's depth gradient (per layer tile),
     // sampled like the depth and scaled by the tiling factor (chain rule).
@@ -214,9 +214,9 @@ void composeInto(std::span<const CompositionLayer> layers, const ComposeParams& 
     for (std::size_t i = 0; i < layers.size(); ++i) {
         const CompositionLayer& layer = layers[i];
         if (layer.weightDepth == 0.0 && layer.weightNormal == 0.0) continue;
-        LayerPlan plan{static_cast<float>(layer.weightDepth / sumDepth),
-                       static_cast<float>(layer.weightNormal / sumNormal),
-                       static_cast<float>(layer.weightDepth / sumDepth * layer.tiling),
+        LayerPlan plan{static_cast<float>(layer.weightDepth / sums.depth),
+                       static_cast<float>(layer.weightNormal / sums.normal),
+                       static_cast<float>(layer.weightDepth / sums.depth * layer.tiling),
                        SampledMap(layer.texture.depth, size, layer.tiling),
                        std::nullopt,
                        std::nullopt};

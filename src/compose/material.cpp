@@ -5,6 +5,7 @@
 #include "strata/image/image_io.h"
 #include "strata/image/image_ops.h"
 #include "strata/relief/relief_texture.h"
+#include "strata/relief/texture_set.h"
 
 #include <nlohmann/json.hpp>
 
@@ -255,23 +256,14 @@ std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<s
             layer.texture = makePattern(*spec.pattern, spec.patternParams);
         } else {
             std::string note;
-            if (spec.depthFile) {
-                layer.texture.depth = readScalarMap(*spec.depthFile, &note);
-            } else {
-                layer.texture.depth = heightToDepth(readScalarMap(*spec.heightFile, &note));
-            }
+            layer.texture.depth = spec.depthFile
+                                      ? readDepthMap(*spec.depthFile, DepthEncoding::Depth, &note)
+                                      : readDepthMap(*spec.heightFile, DepthEncoding::Height, &note);
             if (!note.empty() && notes) notes->push_back(note);
             layer.texture.depthScale = spec.fileDepthScale.value_or(material.compose.depthScale);
-            if (spec.normalFile) {
-                const Image encoded = readImage(*spec.normalFile);
-                if (encoded.channels() < 3)
-                    throw Error(ErrorKind::InvalidInput,
-                                spec.normalFile->string() + ": a normal map needs 3 channels (RGB), it has " +
-                                    std::to_string(encoded.channels()));
-                layer.texture.normal = decodeNormals(encoded, spec.normalYDown);
-            } else {
-                layer.texture.normal = normalsFromDepth(layer.texture.depth, layer.texture.depthScale);
-            }
+            layer.texture.normal = spec.normalFile
+                                       ? readNormalMap(*spec.normalFile, spec.normalYDown)
+                                       : normalsFromDepth(layer.texture.depth, layer.texture.depthScale);
             if (spec.colorFile) layer.texture.color = toRgb(readImage(*spec.colorFile));
         }
         layers.push_back(std::move(layer));

@@ -209,6 +209,20 @@ json readSidecar(const fs::path& path) {
     return sidecar;
 }
 
+Image readDepthMap(const fs::path& path, DepthEncoding encoding, std::string* note) {
+    Image map = readScalarMap(path, note);
+    return encoding == DepthEncoding::Height ? heightToDepth(map) : map;
+}
+
+Image readNormalMap(const fs::path& path, bool flipY) {
+    const Image encoded = readImage(path);
+    if (encoded.channels() < 3)
+        throw Error(ErrorKind::InvalidInput, path.string() +
+                                                 ": a normal map needs 3 channels (RGB), it has " +
+                                                 std::to_string(encoded.channels()));
+    return decodeNormals(encoded, flipY);
+}
+
 ReliefTexture readTextureSet(const fs::path& path) {
     const fs::path dir = fs::is_directory(path) ? path : path.parent_path();
     const json sidecar = readSidecar(path);
@@ -233,8 +247,8 @@ ReliefTexture readTextureSet(const fs::path& path) {
     if (!depthFile || !normalFile)
         throw Error(ErrorKind::InvalidInput,
                     sidecarPath.string() + ": a texture set needs \"depth\" and \"normal\"");
-    texture.depth = readScalarMap(*depthFile);
-    texture.normal = decodeNormals(readImage(*normalFile));
+    texture.depth = readDepthMap(*depthFile, DepthEncoding::Depth);
+    texture.normal = readNormalMap(*normalFile);
     if (const auto colorFile = fileOf("color")) {
         texture.color = toRgb(readImage(*colorFile));
     }

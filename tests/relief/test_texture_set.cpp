@@ -111,6 +111,35 @@ TEST(TextureSet, AnInputIsNeverOverwritten) {
     EXPECT_EQ(test::countEntries(dir.path()), 1);
 }
 
+TEST(TextureSet, AGrayNormalMapIsAnErrorNotACrash) {
+    test::ScratchDir dir("graynormal");
+    writeTextureSet(dir.path(), smallSet());
+    writePng(dir / "normal.png", Image(8, 4, 1, 0.5f));  // a user replaced it with a gray image
+    try {
+        readTextureSet(dir.path());
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::InvalidInput);
+        EXPECT_NE(std::string(e.what()).find("normal.png: a normal map needs 3 channels"), std::string::npos)
+            << e.what();
+    }
+}
+
+TEST(TextureSet, SingleMapReadersFollowTheirEncoding) {
+    test::ScratchDir dir("single");
+    writePng(dir / "h.png", Image(4, 4, 1, 0.25f));
+    EXPECT_NEAR(readDepthMap(dir / "h.png", DepthEncoding::Height).at(1, 1), 0.75f, 1.0 / 65535);
+    EXPECT_NEAR(readDepthMap(dir / "h.png", DepthEncoding::Depth).at(1, 1), 0.25f, 1.0 / 65535);
+    const ReliefTexture texture = smallSet();
+    writePng(dir / "n.png", encodeNormals(texture.normal));
+    const Image gl = readNormalMap(dir / "n.png");
+    const Image dx = readNormalMap(dir / "n.png", true);
+    // Stored n * 0.5 + 0.5 at 16 bits: one step after decoding, a little more after renormalising.
+    EXPECT_LE(test::maxAbsDiff(gl, texture.normal), 2.0 * kSixteenBitStep);
+    EXPECT_EQ(dx.at(3, 2, 1), -gl.at(3, 2, 1));
+    EXPECT_EQ(dx.at(3, 2, 0), gl.at(3, 2, 0));
+}
+
 TEST(TextureSet, ASidecarOfAnotherKindIsRejected) {
     test::ScratchDir dir("notours");
     test::writeBytes(dir / "strata.json", "{\"format\": \"something-else\"}");

@@ -65,6 +65,19 @@ ReliefTexture readTextureSet(const std::filesystem::path& path);
 // The sidecar of a set, parsed (for `strata info`). Same errors as readTextureSet.
 nlohmann::json readSidecar(const std::filesystem::path& path);
 
+// Single maps from files, used by every input path (import, materials, texture sets) so that each
+// says which encoding it reads and all of them check the same things.
+enum class DepthEncoding {
+    Depth,   // 0 = top, 1 = deepest (CONVENTIONS §2)
+    Height,  // white = high, read as d = 1 - h
+};
+// A gray or gray+alpha file gives its gray channel; RGB(A) is read through its luminance and a note
+// naming the file is stored in `note`. Throws like readImage.
+Image readDepthMap(const std::filesystem::path& path, DepthEncoding encoding, std::string* note = nullptr);
+// Decoded, renormalised unit normals in Strata's OpenGL convention; `flipY` converts a DirectX map
+// (green down). Throws Error(InvalidInput) naming the file if it has fewer than 3 channels.
+Image readNormalMap(const std::filesystem::path& path, bool flipY = false);
+
 // packed.png's content (CONVENTIONS §5) as a 4-channel image at the depth map's resolution.
 Image packRelief(const ReliefTexture& texture);
 
