@@ -15,6 +15,7 @@ namespace strata::cli {
 void addPatternCommand(CLI::App& app);
 void addImportCommand(CLI::App& app);
 void addComposeCommand(CLI::App& app);
+void addAoCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 
 // A progress line on stderr, only when stderr is a terminal (pipes and CI logs stay clean).

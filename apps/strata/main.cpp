@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
     strata::cli::addPatternCommand(app);
     strata::cli::addImportCommand(app);
     strata::cli::addComposeCommand(app);
+    strata::cli::addAoCommand(app);
     strata::cli::addInfoCommand(app);
 
     try {

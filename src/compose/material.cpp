@@ -212,7 +212,31 @@ Material parseMaterial(const json& document, const fs::path& source) {
                         "layers[" + std::to_string(material.compose.colorFrom) + "] has no \"color\" file");
     }
 
-    // Later issues add the AO keys; until they land they are refused like any other unknown key.
+    // Ambient occlusion: the mode, and the bake's method, radius and directions.
+    const std::string aoMode = reader.string("ao").value_or("exact");
+    if (aoMode == "none") {
+        material.ao.reset();
+    } else if (aoMode == "exact" || aoMode == "multiply" || aoMode == "min") {
+        material.ao = parseMetaAoMode(aoMode);
+    } else {
+        reader.fail("ao", "must be \"exact\", \"multiply\", \"min\" or \"none\", got \"" + aoMode + "\"");
+    }
+    if (const auto method = reader.string("ao_method")) {
+        if (*method != "sweep" && *method != "paper" && *method != "brute")
+            reader.fail("ao_method", "must be \"sweep\", \"paper\" or \"brute\", got \"" + *method + "\"");
+        material.aoParams.method = parseAoMethod(*method);
+    }
+    if (const auto radius = reader.number("ao_radius")) {
+        if (!(*radius > 0.0 && *radius <= 16.0))
+            reader.fail("ao_radius", "must be in (0, 16] tile widths, got " + formatNumber(*radius));
+        material.aoParams.radius = *radius;
+    }
+    if (const auto directions = reader.integer("ao_directions", 3, 1024))
+        material.aoParams.directions = static_cast<int>(*directions);
+    if (!material.ao)
+        for (const char* key : {"ao_method", "ao_radius", "ao_directions"})
+            if (reader.has(key)) reader.fail(key, "given with \"ao\": \"none\" (no AO map is made)");
+
     reader.rejectUnknown();
 
     double sumDepth = 0.0;

@@ -2,6 +2,8 @@
 // cosine-weighted reference, the filter, the depth rescale and layer combination.
 #include "strata/occlusion/ambient_occlusion.h"
 
+#include "horizon_line.h"
+#include "horizon_search.h"
 #include "shared/ao_rescale.h"
 #include "strata/core/check.h"
 #include "strata/core/error.h"
@@ -34,7 +36,7 @@ void validate(const Image& depth, const AoParams& params) {
     requireRange("directions", params.directions, 3, 1024, false);
     requireRange("radius", params.radius, 0.0, 16.0, true);
     requireRange("depth scale", params.depthScale, 0.0, 100.0, true);
-    requireRange("march step", params.marchStep, 1.0 / 64.0, 16.0, false);
+    if (params.marchStep != 0.0) requireRange("march step", params.marchStep, 1.0 / 64.0, 16.0, false);
     requireRange("filter radius", params.filterRadius, 0, 8, false);
     requireRange("filter sigma", params.filterSigma, 0.0, 16.0, true);
 }
@@ -72,6 +74,11 @@ Image HorizonMap::ao(double s) const {
 
 HorizonMap computeHorizons(const Image& depth, const AoParams& params) {
     validate(depth, params);
+    if (params.method == AoMethod::Sweep) return detail::sweepHorizons(depth, params);
+    return detail::marchHorizons(depth, params);
+}
+
+HorizonMap detail::marchHorizons(const Image& depth, const AoParams& params) {
     const int w = depth.width();
     const int h = depth.height();
     const int m = params.directions;
@@ -83,6 +90,30 @@ HorizonMap computeHorizons(const Image& depth, const AoParams& params) {
     result.radius = params.radius;
     result.tanHorizon.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) *
                              static_cast<std::size_t>(m));
+
+    const auto range = std::minmax_element(depth.pixels().begin(), depth.pixels().end());
+    const double minDepth = *range.first;
+    const double scale = params.depthScale;
+    if (params.marchStep == 0.0) {
+        // Cell by cell along each texel's own line: exact for the bilinear relief.
+        std::vector<detail::LineDirection> directions;
+        for (int i = 0; i < m; ++i) directions.emplace_back(2.0 * kPi * i / m, w, h);
+        forEachRow(h, [&](int y) {
+            for (int x = 0; x < w; ++x) {
+                float* out =
+                    result.tanHorizon.data() + (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                                static_cast<std::size_t>(x)) *
+                                                   static_cast<std::size_t>(m);
+                for (int i = 0; i < m; ++i) {
+                    const detail::LineDirection& dir = directions[static_cast<std::size_t>(i)];
+                    const detail::MajorMinorDepth grid(depth, dir.xMajor);
+                    out[i] = static_cast<float>(
+                        detail::horizonAlongLine(depth, grid, dir, x, y, scale, params.radius, minDepth));
+                }
+            }
+        });
+        return result;
+    }
 
     // N samples at t_k = k R / N, k = 1..N: a step of at most marchStep texels of the larger side.
     const double side = std::max(w, h);
@@ -97,9 +128,6 @@ HorizonMap computeHorizons(const Image& depth, const AoParams& params) {
         stepX[static_cast<std::size_t>(i)] = std::cos(phi) * dt * w;
         stepY[static_cast<std::size_t>(i)] = -std::sin(phi) * dt * h;
     }
-    const auto range = std::minmax_element(depth.pixels().begin(), depth.pixels().end());
-    const double minDepth = *range.first;
-    const double scale = params.depthScale;
 
     forEachRow(h, [&](int y) {
         for (int x = 0; x < w; ++x) {
@@ -135,6 +163,24 @@ HorizonMap computeHorizons(const Image& depth, const AoParams& params) {
         }
     });
     return result;
+}
+
+std::vector<float> texelHorizons(const Image& depth, const AoParams& params, int x, int y) {
+    validate(depth, params);
+    if (x < 0 || y < 0 || x >= depth.width() || y >= depth.height())
+        throw Error(ErrorKind::InvalidInput, "ambient occlusion: texel (" + std::to_string(x) + ", " +
+                                                 std::to_string(y) + ") is outside the " +
+                                                 std::to_string(depth.width()) + " x " +
+                                                 std::to_string(depth.height()) + " map");
+    const double minDepth = *std::min_element(depth.pixels().begin(), depth.pixels().end());
+    std::vector<float> out(static_cast<std::size_t>(params.directions));
+    for (int i = 0; i < params.directions; ++i) {
+        const detail::LineDirection dir(2.0 * kPi * i / params.directions, depth.width(), depth.height());
+        const detail::MajorMinorDepth grid(depth, dir.xMajor);
+        out[static_cast<std::size_t>(i)] = static_cast<float>(
+            detail::horizonAlongLine(depth, grid, dir, x, y, params.depthScale, params.radius, minDepth));
+    }
+    return out;
 }
 
 double polygonOpenValue(int directions, AoNormalize normalize) {
@@ -197,10 +243,14 @@ Image filterOccluded(const Image& ao, const HorizonMap& horizons, int radius, do
 }
 
 Image bakeAo(const Image& depth, const AoParams& params) {
-    const HorizonMap horizons = computeHorizons(depth, params);
-    const Image ao = params.method == AoMethod::Paper ? polygonAo(horizons, params.normalize) : horizons.ao();
     const bool filter = params.filter == AoFilter::Paper ||
                         (params.filter == AoFilter::Auto && params.method == AoMethod::Paper);
+    if (params.method == AoMethod::Sweep && !filter) {
+        validate(depth, params);
+        return detail::sweepAo(depth, params);
+    }
+    const HorizonMap horizons = computeHorizons(depth, params);
+    const Image ao = params.method == AoMethod::Paper ? polygonAo(horizons, params.normalize) : horizons.ao();
     return filter ? filterOccluded(ao, horizons, params.filterRadius, params.filterSigma) : ao;
 }
 
@@ -275,7 +325,15 @@ Image combineAo(std::span<const AoLayer> layers, AoCombine mode, int resolution)
 }
 
 const char* toString(AoMethod method) {
-    return method == AoMethod::Paper ? "paper" : "brute";
+    switch (method) {
+        case AoMethod::Sweep:
+            return "sweep";
+        case AoMethod::Brute:
+            return "brute";
+        case AoMethod::Paper:
+            return "paper";
+    }
+    return "?";
 }
 const char* toString(AoFilter filter) {
     switch (filter) {
@@ -296,9 +354,10 @@ const char* toString(AoCombine mode) {
 }
 
 AoMethod parseAoMethod(const std::string& text) {
+    if (text == "sweep") return AoMethod::Sweep;
     if (text == "brute") return AoMethod::Brute;
     if (text == "paper") return AoMethod::Paper;
-    throw Error(ErrorKind::InvalidInput, "unknown AO method '" + text + "' (expected brute or paper)");
+    throw Error(ErrorKind::InvalidInput, "unknown AO method '" + text + "' (expected sweep, brute or paper)");
 }
 AoFilter parseAoFilter(const std::string& text) {
     if (text == "auto") return AoFilter::Auto;

@@ -145,6 +145,69 @@ TEST_F(MaterialTest, EveryBadKeyIsNamed) {
     expectError(json::array(), ErrorKind::InvalidInput, "must be a JSON object");
 }
 
+TEST_F(MaterialTest, TheAoKeysDefaultToTheExactSweep) {
+    const Material defaults = parseMaterial(issueMaterial(), materialPath());
+    ASSERT_TRUE(defaults.ao.has_value());
+    EXPECT_EQ(*defaults.ao, MetaAoMode::Exact);
+    EXPECT_EQ(defaults.aoParams.method, AoMethod::Sweep);
+    EXPECT_EQ(defaults.aoParams.radius, 1.0);
+    EXPECT_EQ(defaults.aoParams.directions, 50);
+
+    json doc = issueMaterial();
+    doc["ao"] = "multiply";
+    doc["ao_method"] = "paper";
+    doc["ao_radius"] = 2.5;
+    doc["ao_directions"] = 16;
+    const Material chosen = parseMaterial(doc, materialPath());
+    EXPECT_EQ(*chosen.ao, MetaAoMode::Multiply);
+    EXPECT_EQ(chosen.aoParams.method, AoMethod::Paper);
+    EXPECT_EQ(chosen.aoParams.radius, 2.5);
+    EXPECT_EQ(chosen.aoParams.directions, 16);
+
+    doc = issueMaterial();
+    doc["ao"] = "min";
+    EXPECT_EQ(*parseMaterial(doc, materialPath()).ao, MetaAoMode::Min);
+    doc["ao"] = "none";
+    EXPECT_FALSE(parseMaterial(doc, materialPath()).ao.has_value());
+}
+
+TEST_F(MaterialTest, EveryBadAoKeyIsNamed) {
+    json doc = issueMaterial();
+    doc["ao"] = "product";
+    expectError(doc, ErrorKind::InvalidInput,
+                "material.json: ao: must be \"exact\", \"multiply\", \"min\" or \"none\", got \"product\"");
+
+    doc = issueMaterial();
+    doc["ao"] = true;
+    expectError(doc, ErrorKind::InvalidInput, "ao: must be a string, got boolean");
+
+    doc = issueMaterial();
+    doc["ao_method"] = "fast";
+    expectError(doc, ErrorKind::InvalidInput,
+                "ao_method: must be \"sweep\", \"paper\" or \"brute\", got \"fast\"");
+
+    doc = issueMaterial();
+    doc["ao_radius"] = 0.0;
+    expectError(doc, ErrorKind::InvalidInput, "ao_radius: must be in (0, 16] tile widths, got 0");
+    doc["ao_radius"] = 17;
+    expectError(doc, ErrorKind::InvalidInput, "ao_radius: must be in (0, 16] tile widths, got 17");
+
+    doc = issueMaterial();
+    doc["ao_directions"] = 2;
+    expectError(doc, ErrorKind::InvalidInput, "ao_directions: must be in [3, 1024], got 2");
+    doc["ao_directions"] = 12.5;
+    expectError(doc, ErrorKind::InvalidInput, "ao_directions: must be an integer, got 12.5");
+
+    doc = issueMaterial();
+    doc["ao"] = "none";
+    doc["ao_radius"] = 2.0;
+    expectError(doc, ErrorKind::InvalidInput, "ao_radius: given with \"ao\": \"none\"");
+
+    doc = issueMaterial();
+    doc["ao_mode"] = "exact";
+    expectError(doc, ErrorKind::InvalidInput, "ao_mode: unknown key");
+}
+
 TEST_F(MaterialTest, MalformedJsonIsInvalidInputWithItsPosition) {
     test::writeBytes(materialPath(), "{ \"layers\": [ { \"pattern\": \"base\", } ] }");
     try {

@@ -96,16 +96,20 @@ TEST(AmbientOcclusion, TriangleWaveHorizonsMatchClosedForm) {
     const double s = 0.5;
     const Image depth = triangleWave(8);
     const HorizonMap horizons = computeHorizons(depth, paramsFor(AoMethod::Brute, s));
+    AoParams texelByTexel = paramsFor(AoMethod::Brute, s);
+    texelByTexel.marchStep = 1.0;
+    const HorizonMap marched = computeHorizons(depth, texelByTexel);
     ASSERT_EQ(horizons.directions, 50);
     for (int i = 0; i < 50; ++i) {
         const double c = std::cos(2.0 * kPi * i / 50);
-        // Valley: every sample on the wall gives the horizon exactly; only float rounding remains.
-        EXPECT_NEAR(horizons.texel(0, 3)[static_cast<std::size_t>(i)], tanValley(c, s), 1e-6) << i;
-        // Mid-wall: the ridge at -u can fall between two samples (1 texel apart). Both sides of it
-        // slope 1/32 depth per texel of u and a step moves |c| texels along u, so the missed height is
-        // at most s |c| / 32 at distance t >= 0.75 / |c|: an error in tan(h) of at most s c^2 / 24.
+        // The exact walk visits the ridge wherever it falls: float rounding only.
+        EXPECT_NEAR(horizons.texel(0, 3)[static_cast<std::size_t>(i)], tanValley(c, s), 1e-5) << i;
+        EXPECT_NEAR(horizons.texel(16, 3)[static_cast<std::size_t>(i)], tanMidWall(c, s), 1e-5) << i;
+        // Marching texel by texel, the ridge at -u can fall between two samples. Both sides of it slope
+        // 1/32 depth per texel of u and a step moves |c| texels along u, so the missed height is at most
+        // s |c| / 32 at distance t >= 0.75 / |c|: an error in tan(h) of at most s c^2 / 24.
         const double bound = s * c * c / 24.0 + 1e-6;
-        const double got = horizons.texel(16, 3)[static_cast<std::size_t>(i)];
+        const double got = marched.texel(16, 3)[static_cast<std::size_t>(i)];
         EXPECT_LE(got, tanMidWall(c, s) + 1e-6) << i;  // a sample never sees above the true horizon
         EXPECT_GE(got, tanMidWall(c, s) - bound) << i;
     }
@@ -117,13 +121,14 @@ TEST(AmbientOcclusion, TriangleWaveAoMatchesClosedForm) {
     const Image brute = bakeAo(depth, paramsFor(AoMethod::Brute, s));
     const double valley = cosineWeightedAo(50, s, tanValley);
     const double mid = cosineWeightedAo(50, s, tanMidWall);
-    // Same M on both sides, so the only error is the marching step (bounded above per direction).
-    // At the valley it is zero: float rounding only.
+    // Same M on both sides and an exact search: float rounding only.
     EXPECT_NEAR(brute.at(0, 5), valley, 1e-6);
-    EXPECT_NEAR(brute.at(16, 5), mid, 0.002);  // the analytic tolerance
-    AoParams fine = paramsFor(AoMethod::Brute, s);
-    fine.marchStep = 0.125;  // 8 samples per texel: the peak miss shrinks 8x
-    EXPECT_NEAR(bakeAo(depth, fine).at(16, 5), mid, 0.0003);
+    EXPECT_NEAR(brute.at(16, 5), mid, 1e-6);
+    AoParams marched = paramsFor(AoMethod::Brute, s);
+    marched.marchStep = 1.0;  // texel by texel misses the ridge between samples: within 0.002
+    EXPECT_NEAR(bakeAo(depth, marched).at(16, 5), mid, 0.002);
+    marched.marchStep = 0.125;  // 8 samples per texel: the peak miss shrinks 8x
+    EXPECT_NEAR(bakeAo(depth, marched).at(16, 5), mid, 0.0003);
 
     // The azimuth discretisation: M = 50 against the continuous integral (M = 20000), for the record.
     const double continuousValley = cosineWeightedAo(20000, s, tanValley);
@@ -379,8 +384,8 @@ TEST(AmbientOcclusion, BadInputIsRejectedWithTheValue) {
     p.depthScale = std::nan("");
     expectInvalid(p, "depth scale = nan");
     p = {};
-    p.marchStep = 0.0;
-    expectInvalid(p, "march step = 0");
+    p.marchStep = 0.001;  // 0 is the exact walk; steps start at 1/64
+    expectInvalid(p, "march step = 0.001");
     p = {};
     p.filterSigma = -1.0;
     expectInvalid(p, "filter sigma = -1");
@@ -392,7 +397,8 @@ TEST(AmbientOcclusion, BadInputIsRejectedWithTheValue) {
     EXPECT_EQ(parseAoFilter(toString(AoFilter::None)), AoFilter::None);
     EXPECT_EQ(parseAoNormalize("open"), AoNormalize::Open);
     EXPECT_EQ(parseAoCombine("min"), AoCombine::Min);
-    EXPECT_THROW((void)parseAoMethod("sweep"), Error);
+    EXPECT_EQ(parseAoMethod("sweep"), AoMethod::Sweep);
+    EXPECT_THROW((void)parseAoMethod("exact"), Error);
 }
 
 TEST(AmbientOcclusion, BruteBakesAPatternAt128) {

@@ -14,6 +14,9 @@
 // Paths are relative to the material file. A file layer without a normal map gets normals derived
 // from its depth at the material's depth_scale.
 //
+// The top-level keys "ao", "ao_method", "ao_radius" and "ao_directions" say how the set's AO map is made
+// (Material::ao, Material::aoParams; strata/occlusion/meta_relief_ao.h has the modes).
+//
 // Parsing is strict: an unknown key, a wrong type, a value out of range, a missing file, both or
 // neither of "depth"/"height", or a layer with both "pattern" and files throws Error(InvalidInput)
 // (Error(Io) for a missing file) whose message is "<file>: <key path>: <what is wrong>", e.g.
@@ -22,6 +25,7 @@
 #pragma once
 
 #include "strata/compose/compose.h"
+#include "strata/occlusion/meta_relief_ao.h"
 #include "strata/relief/patterns.h"
 
 #include <nlohmann/json_fwd.hpp>
@@ -56,8 +60,13 @@ struct Material {
     std::filesystem::path source;  // the material file, for messages
     ComposeParams compose;         // "resolution", "depth_scale", "normals", "color_from"
     std::vector<MaterialLayer> layers;
-    // Keys later issues add ("ao", "ao_method") are parsed and checked elsewhere; this list says
-    // which top-level keys are allowed at all.
+    // Ambient occlusion (strata/occlusion/meta_relief_ao.h). "ao": "exact" (default) | "multiply" |
+    // "min" | "none"; nullopt is "none": no AO map, packed B = 1 (fully open).
+    std::optional<MetaAoMode> ao = MetaAoMode::Exact;
+    // "ao_method": "sweep" (default) | "paper" | "brute"; "ao_radius": R in composed tile widths, (0, 16],
+    // default 1; "ao_directions": M, [3, 1024], default 50. Everything else keeps AoParams' defaults;
+    // depthScale is not used (S is compose.depthScale).
+    AoParams aoParams;
 };
 
 // Parses and validates a material document. `source` names it in messages and its directory

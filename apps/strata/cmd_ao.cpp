@@ -1,0 +1,210 @@
+// strata ao DEPTH -o AO.png --depth-scale S [--radius R] [--directions M] [--method sweep|paper|brute]
+//          [--filter auto|paper|none] [--normalize open|paper] [--height] [--bit-depth 8|16]
+// DEPTH: a depth map (or, with --height, a height map), or a texture-set directory or its strata.json
+// (its depth map, and its depth scale unless --depth-scale is given).
+// Writes AO.png (gray, the input's resolution) and its sidecar AO.png.json.
+#include "cli_common.h"
+
+#include "strata/core/error.h"
+#include "strata/core/file.h"
+#include "strata/core/version.h"
+#include "strata/image/image_io.h"
+#include "strata/occlusion/ambient_occlusion.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace strata::cli {
+
+namespace {
+
+inline constexpr const char* kAoSidecarFormat = "strata.ao-map";
+
+struct AoOptions {
+    fs::path input;
+    fs::path output;
+    std::optional<double> depthScale;
+    double radius = 1.0;
+    int directions = 50;
+    std::string method = "sweep";
+    std::string filter = "auto";
+    std::string normalize = "open";
+    bool height = false;
+    int bitDepth = 16;
+};
+
+// The sidecar sits beside the map and keeps its full name: AO.png -> AO.png.json. That cannot collide
+// with a texture set's strata.json or with another map's sidecar, and `ls` shows the pair together.
+fs::path sidecarPathFor(const fs::path& output) {
+    return fs::path(output.string() + ".json");
+}
+
+bool isPngName(const fs::path& path) {
+    std::string extension = path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return extension == ".png";
+}
+
+// The depth map to bake, where it came from, and the files that must not be overwritten.
+struct DepthInput {
+    Image depth;
+    double depthScale = 0.0;
+    std::string encoding;  // "depth" or "height"
+    fs::path file;         // the map that was read
+    std::vector<fs::path> inputs;
+};
+
+DepthInput readInput(const AoOptions& options) {
+    std::error_code ec;
+    const bool isSet = fs::is_directory(options.input, ec) || options.input.extension() == ".json";
+    DepthInput input;
+    if (isSet) {
+        if (options.height)
+            throw Error(ErrorKind::Usage, "ao: --height is for a height-map file; a texture set holds depth");
+        const json sidecar = readSidecar(options.input);
+        const fs::path dir =
+            fs::is_directory(options.input, ec) ? options.input : options.input.parent_path();
+        const fs::path sidecarFile = dir / kSidecarName;
+        const auto depthEntry = sidecar.find("depth");
+        if (depthEntry == sidecar.end() || !depthEntry->is_object() || !depthEntry->contains("file") ||
+            !(*depthEntry)["file"].is_string())
+            throw Error(ErrorKind::InvalidInput, sidecarFile.string() + ": \"depth\" has no \"file\" string");
+        input.file = dir / (*depthEntry)["file"].get<std::string>();
+        if (options.depthScale) {
+            input.depthScale = *options.depthScale;
+        } else {
+            const auto scale = sidecar.find("depth_scale");
+            if (scale == sidecar.end() || !scale->is_number())
+                throw Error(ErrorKind::InvalidInput,
+                            sidecarFile.string() + ": \"depth_scale\" is missing or not a number");
+            input.depthScale = scale->get<double>();
+        }
+        input.encoding = "depth";
+        input.inputs = {sidecarFile, input.file};
+        input.depth = readDepthMap(input.file, DepthEncoding::Depth);
+        return input;
+    }
+    if (!options.depthScale)
+        throw Error(ErrorKind::Usage,
+                    "ao: --depth-scale S is required for a depth or height map (AO depends on S; only a "
+                    "texture set records it)");
+    input.depthScale = *options.depthScale;
+    input.encoding = options.height ? "height" : "depth";
+    input.file = options.input;
+    input.inputs = {options.input};
+    std::string readNote;
+    input.depth =
+        readDepthMap(options.input, options.height ? DepthEncoding::Height : DepthEncoding::Depth, &readNote);
+    if (!readNote.empty()) note(readNote);
+    return input;
+}
+
+void runAo(const AoOptions& options) {
+    if (!isPngName(options.output))
+        throw Error(ErrorKind::Usage, "ao: -o must name a .png file, got " + options.output.string());
+    const fs::path sidecarPath = sidecarPathFor(options.output);
+
+    // Read and bake everything before writing anything.
+    progress("reading " + options.input.string());
+    const DepthInput input = readInput(options);
+    for (const fs::path& output : {options.output, sidecarPath})
+        refuseToOverwriteInputs(output, input.inputs);
+
+    AoParams params;
+    params.method = parseAoMethod(options.method);
+    params.directions = options.directions;
+    params.radius = options.radius;
+    params.depthScale = input.depthScale;
+    params.filter = parseAoFilter(options.filter);
+    params.normalize = parseAoNormalize(options.normalize);
+    progress("ambient occlusion (" + options.method + ", " + std::to_string(params.directions) +
+             " directions, R = " + formatNumber(params.radius) + ", S = " + formatNumber(params.depthScale) +
+             ") of " + std::to_string(input.depth.width()) + "x" + std::to_string(input.depth.height()));
+    const Image ao = bakeAo(input.depth, params);
+
+    const AoRecord record;  // the definition text every Strata AO file carries (CONVENTIONS §4)
+    json sidecar;
+    sidecar["format"] = kAoSidecarFormat;
+    sidecar["format_version"] = 1;
+    sidecar["tool"] = std::string("strata ") + kVersion;
+    sidecar["file"] = options.output.filename().string();
+    sidecar["size"] = json::array({ao.width(), ao.height()});
+    sidecar["bit_depth"] = options.bitDepth;
+    sidecar["encoding"] = "gray, AO in [0, 1], 1 = fully open";
+    sidecar["texture_space"] =
+        "u along +x (tangent), v along +y (bitangent); file row 0 is v = 1; tiles toroidally";
+    sidecar["definition"] = record.definition;
+    sidecar["depth_scale"] = params.depthScale;
+    sidecar["radius"] = params.radius;
+    sidecar["directions"] = params.directions;
+    sidecar["method"] = toString(params.method);
+    sidecar["filter"] = options.filter;
+    sidecar["normalize"] = options.normalize;
+    sidecar["input"] = {{"file", input.file.string()}, {"encoding", input.encoding}};
+
+    // The sidecar is staged first and moves in last: the map is renamed into place (atomically) inside
+    // the sidecar's write, so a failure before that leaves neither file.
+    const PngWriteOptions png{options.bitDepth == 8 ? PngBitDepth::Eight : PngBitDepth::Sixteen, true};
+    writeFileAtomic(sidecarPath, [&](const fs::path& tmp) {
+        writeTextFileAtomic(tmp, sidecar.dump(2) + "\n");
+        writePng(options.output, ao, png);
+    });
+    std::cout << "wrote " << options.output.string() << " " << sidecarPath.string() << "\n";
+}
+
+}  // namespace
+
+void addAoCommand(CLI::App& app) {
+    auto options = std::make_shared<AoOptions>();
+    CLI::App* command = app.add_subcommand(
+        "ao", "Bake the ambient-occlusion map of a depth map or texture set (meta-relief paper, Sec. IV)");
+    command
+        ->add_option(
+            "depth", options->input,
+            "Depth map (0 = top), height map with --height, or a texture-set directory / strata.json")
+        ->required();
+    command->add_option("-o,--output", options->output, "Output AO map (.png); its sidecar is <output>.json")
+        ->required();
+    command
+        ->add_option("--depth-scale", options->depthScale,
+                     "Depth scale S (depth of d = 1 in tile widths), (0, 100]; required unless the input is "
+                     "a texture set")
+        ->check(CLI::PositiveNumber & CLI::Range(0.0, 100.0));
+    command->add_option("--radius", options->radius, "Search radius R in tile widths, (0, 16]")
+        ->check(CLI::PositiveNumber & CLI::Range(0.0, 16.0))
+        ->capture_default_str();
+    command->add_option("--directions", options->directions, "Number of directions M, [3, 1024]")
+        ->check(CLI::Range(3, 1024))
+        ->capture_default_str();
+    command
+        ->add_option("--method", options->method,
+                     "sweep (exact horizons, default), paper (the paper's polygon), brute (marched)")
+        ->check(CLI::IsMember({"sweep", "paper", "brute"}))
+        ->capture_default_str();
+    command
+        ->add_option("--filter", options->filter,
+                     "Low-pass filter at occluded texels: auto (paper for --method paper), paper, none")
+        ->check(CLI::IsMember({"auto", "paper", "none"}))
+        ->capture_default_str();
+    command
+        ->add_option("--normalize", options->normalize,
+                     "--method paper: open (open = 1) or paper (divide by pi, open = 0.997 at M = 50)")
+        ->check(CLI::IsMember({"open", "paper"}))
+        ->capture_default_str();
+    command->add_flag("--height", options->height, "The input is a height map (white = high): d = 1 - h");
+    command->add_option("--bit-depth", options->bitDepth, "Bit depth of the AO PNG (8-bit is dithered)")
+        ->check(CLI::IsMember({8, 16}))
+        ->capture_default_str();
+    command->callback([options] { runAo(*options); });
+}
+
+}  // namespace strata::cli
