@@ -6,4 +6,4 @@ cd "$(dirname "$0")/.."
 scripts/build.sh release
 mkdir -p out
 build/release/apps/strata/strata compose examples/shaped_fabric.json -o out/shaped_fabric
-echo "demo: the Shaped Fabric texture set is in out/shaped_fabric/ (packed.png, depth.png, normal.png, color.png, strata.json)"
+echo "demo: the Shaped Fabric texture set is in out/shaped_fabric/ (packed.png, depth.png, normal.png, color.png, ao.png, strata.json)"
