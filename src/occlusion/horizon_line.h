@@ -81,17 +81,18 @@ private:
 // (t0, z0) and (t1, z1) with z''/2 = curvature / (t1 - t0)^2: the bilinear relief along a line inside
 // one cell is such an arc (curvature = -S e da db, e the cell's twist d00 - d10 - d01 + d11 and da, db
 // the extents of the segment in the cell's two axes). Endpoints are handled by the caller.
-inline void raiseByArcInterior(double& best, double zP, double t0, double z0, double t1, double z1,
-                               double curvature) {
-    if (curvature >= 0.0) return;  // a convex arc has no interior maximum of the elevation
-    const double length = t1 - t0;
-    const double c = curvature / (length * length);
-    const double b = (z1 - z0) / length - c * (t0 + t1);
-    const double a = z0 - b * t0 - c * t0 * t0;  // z(t) = a + b t + c t^2
+// Real is float (the sweep) or double (the exact walk).
+template <typename Real>
+void raiseByArcInterior(Real& best, Real zP, Real t0, Real z0, Real t1, Real z1, Real curvature) {
+    if (curvature >= Real(0)) return;  // a convex arc has no interior maximum of the elevation
+    const Real length = t1 - t0;
+    const Real c = curvature / (length * length);
+    const Real b = (z1 - z0) / length - c * (t0 + t1);
+    const Real a = z0 - b * t0 - c * t0 * t0;  // z(t) = a + b t + c t^2
     // d/dt ((z - zP) / t) = 0  <=>  c t^2 = a - zP.
-    const double ratio = (a - zP) / c;
-    if (ratio <= 0.0) return;
-    const double t = std::sqrt(ratio);
+    const Real ratio = (a - zP) / c;
+    if (ratio <= Real(0)) return;
+    const Real t = std::sqrt(ratio);
     if (t > t0 && t < t1) best = std::max(best, (a + b * t + c * t * t - zP) / t);
 }
 

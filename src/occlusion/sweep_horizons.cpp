@@ -166,19 +166,6 @@ struct DirectionPlan {
     }
 };
 
-// raiseByArcInterior in float.
-inline void raiseByArc(float& best, float zP, float t0, float z0, float t1, float z1, float curvature) {
-    if (curvature >= 0.0f) return;
-    const float length = t1 - t0;
-    const float c = curvature / (length * length);
-    const float b = (z1 - z0) / length - c * (t0 + t1);
-    const float a = z0 - b * t0 - c * t0 * t0;
-    const float ratio = (a - zP) / c;
-    if (ratio <= 0.0f) return;
-    const float t = std::sqrt(ratio);
-    if (t > t0 && t < t1) best = std::max(best, (a + b * t + c * t * t - zP) / t);
-}
-
 // The exact near field of texel (a, r) (unwrapped padded coordinates are fine within kPad).
 inline float nearField(const PaddedRelief& relief, const DirectionPlan& plan, int a, int r, float zP) {
     const int step = plan.dir.step;
@@ -197,7 +184,7 @@ inline float nearField(const PaddedRelief& relief, const DirectionPlan& plan, in
         const float curvature = e * (s.alpha1 - s.alpha0) * (s.beta1 - s.beta0);
         if (curvature < 0.0f && s.t0 > 0.0f) {
             const float z0 = c00 + (c10 - c00) * s.alpha0 + (c01 - c00) * s.beta0 + e * s.alpha0 * s.beta0;
-            raiseByArc(best, zP, s.t0, z0, s.t1, z1, curvature);
+            raiseByArcInterior(best, zP, s.t0, z0, s.t1, z1, curvature);
         }
     }
     return std::max(best, 0.0f);
