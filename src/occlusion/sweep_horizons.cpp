@@ -1,16 +1,27 @@
 // The sweep horizon search (AoMethod::Sweep); see the comment on AoMethod::Sweep in
 // strata/occlusion/ambient_occlusion.h for what it computes and how exact it is.
 //
-// Per direction, parallel lines one texel apart sweep the map against the direction, each line
-// starting a warm-up of R before its first texel. A line's profile is sampled at every major texel
-// centre and every minor grid crossing (the bilinear relief is linear along both), and its upper
-// convex hull is kept on a stack (Timonen & Westerholm 2010): pushing a point pops the ones it hides,
-// so each point is pushed and popped once. Texel P, the texel nearest to the line at a column, reads
-// its far field from that hull: the tangent from P's own point (its own height, at its distance
-// along the line) to the hull as it stood kNear columns before P. Its near field, up to kNear
-// columns, is walked exactly on P's own line: every crossing and the quadratic arc inside each cell,
-// plus the t -> 0+ slope. The line is at most half a texel beside P, and that offset only matters
-// beyond kNear columns, where it changes the elevation by at most (offset x slope across) / distance.
+// Per direction, two passes.
+//
+// The far field (distances kNear columns .. R). Parallel lines one texel apart sweep the map against
+// the direction. A line's profile is sampled at every major texel centre and every minor grid crossing
+// (the bilinear relief is linear along both), and texel P, the texel nearest to the line at a column,
+// asks for the largest elevation (z - zP) / (tP - t) over the samples with t in [tP - R, tP - kNear dt],
+// plus the point at exactly R. That window slides, so the line is cut into blocks as long as the window
+// (L = R - kNear dt): a window always lies in the end of one block and the start of the next. The start
+// of the current block is an upper convex hull on a stack, pushed in order (Timonen & Westerholm 2010:
+// pushing a point pops the ones it hides). The end of the previous block is a hull built backwards,
+// from the block's last sample to its first, with an undo log: as the window's start moves on, the
+// samples it leaves are undone in the reverse order of their pushes. Each sample is pushed twice and
+// popped at most twice; each query is a tangent search on two hulls, from where the previous one ended.
+//
+// The near field (up to kNear columns), walked exactly on each texel's own line: every crossing and the
+// quadratic arc inside each cell, plus the t -> 0+ slope. Every texel's own line has the same offsets
+// to the grid, so this is one stencil with constant weights, run a row at a time over contiguous
+// memory (vectorised), and combined there with the far field.
+//
+// The line is at most half a texel beside P, and that offset only matters beyond kNear columns, where
+// it changes the elevation by at most (offset x slope across) / distance.
 #include "horizon_line.h"
 #include "horizon_search.h"
 
@@ -19,6 +30,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <vector>
 
@@ -36,48 +48,48 @@ struct HullPoint {
     float z;
 };
 
-// > 0 when c lies above the line through a and b.
+// > 0 when c lies above the line through a and b (a.t < b.t).
 inline float orient(const HullPoint& a, const HullPoint& b, const HullPoint& c) {
     return (b.t - a.t) * (c.z - a.z) - (b.z - a.z) * (c.t - a.t);
 }
 
-// z = -S d in (major, minor) order with kPad wrapped texels on every side, so that lines and near
-// fields index it without wrapping.
+// z = -S d in (major a, minor b) order: row b holds minor index b, contiguous along the major axis.
+// The minor axis is stored twice over (b in [0, 2 sizeB)) so that line j's row j + b never wraps, and
+// kPad wrapped texels pad every side for the near field.
 class PaddedRelief {
 public:
     PaddedRelief(const Image& depth, bool xMajor, float scale)
         : mSizeA(xMajor ? depth.width() : depth.height()),
           mSizeB(xMajor ? depth.height() : depth.width()),
           mStride(mSizeA + 2 * kPad),
-          mZ(static_cast<std::size_t>(mStride) * static_cast<std::size_t>(mSizeB + 2 * kPad)) {
-        for (int b = -kPad; b < mSizeB + kPad; ++b)
+          mZ(static_cast<std::size_t>(mStride) * static_cast<std::size_t>(2 * mSizeB + 2 * kPad)) {
+        for (int b = -kPad; b < 2 * mSizeB + kPad; ++b)
             for (int a = -kPad; a < mSizeA + kPad; ++a) {
                 const int aw = MajorMinorDepth::wrap(a, mSizeA);
                 const int bw = MajorMinorDepth::wrap(b, mSizeB);
                 mZ[index(a, b)] = -scale * (xMajor ? depth.at(aw, bw) : depth.at(bw, aw));
             }
     }
-    std::size_t index(int a, int b) const {
-        return static_cast<std::size_t>(b + kPad) * static_cast<std::size_t>(mStride) +
-               static_cast<std::size_t>(a + kPad);
+    // a in [-kPad, sizeA + kPad), b in [-kPad, 2 sizeB + kPad).
+    std::ptrdiff_t index(int a, int b) const {
+        return static_cast<std::ptrdiff_t>(b + kPad) * mStride + static_cast<std::ptrdiff_t>(a + kPad);
     }
-    // a in [-kPad, sizeA + kPad), b likewise.
-    float at(int a, int b) const { return mZ[index(a, b)]; }
     const float* data() const { return mZ.data(); }
-    int stride() const { return mStride; }
+    const float* row(int b) const { return mZ.data() + index(0, b); }
+    std::ptrdiff_t stride() const { return mStride; }
     int sizeA() const { return mSizeA; }
     int sizeB() const { return mSizeB; }
 
 private:
     int mSizeA;
     int mSizeB;
-    int mStride;
+    std::ptrdiff_t mStride;
     std::vector<float> mZ;
 };
 
 // One cell-segment of the near field, relative to texel P = (a, r): the segment runs inside the cell
 // between major steps q - 1 and q (towards the direction) and minor rows r + minor, r + minor + 1,
-// from (alpha0, beta0) to (alpha1, beta1) in the cell's unit square, ending at distance t1.
+// from (alpha0, beta0) to (alpha1, beta1) in the cell's unit square, from distance t0 to t1.
 struct NearSegment {
     int q;
     int minor;
@@ -85,166 +97,376 @@ struct NearSegment {
     float t0, t1;
 };
 
-// What every line of one direction shares, per processing step k (column a_k = start + order k).
+// What every line of one direction shares. Line j (j in [0, sizeB)) at processing step k crosses
+// column a_k = start + order k (unwrapped; against the direction, so that samples already seen lie
+// towards the direction) at minor coordinate j + a_k slope; t = k dt grows along the line.
 struct DirectionPlan {
     LineDirection dir;
-    int order = 1;   // major step per processing step (against the direction)
-    int warmup = 0;  // steps before the first texel
-    int total = 0;   // steps per line
-    int start = 0;   // a_0 (unwrapped)
-    float dt = 0.0f;
-    std::vector<int> column;      // a_k wrapped
-    std::vector<int> minorFloor;  // floor(a_k slope) mod sizeB: line j's row is j + this
-    std::vector<float> minorFrac;
-    std::vector<float> crossFrac;  // crossing between steps k - 1 and k: fraction, or -1 for none
-    std::vector<int> crossRow;     // ... on row j + this (mod sizeB)
-    std::vector<int> texelRow;     // round(a_k slope) mod sizeB: the texel of line j is row j + this
+    int sizeA = 0;
+    int sizeB = 0;
+    double radius = 1.0;
+    // Queries, k in [0, sizeA): the texel of line j at step k is (texelColumn[k], j + texelRow[k]).
+    std::vector<int> texelColumn;
+    std::vector<int> texelRow;
+    // The far field, empty when R <= kNear dt.
+    bool hasFar = false;
+    float blockLength = 0.0f;  // L = R - kNear dt
+    int firstStep = 0;         // k of the first sample
+    // Samples in order of t: z = (1 - w) Z[index0 + j stride] + w Z[index1 + j stride].
+    std::vector<float> sampleT;
+    std::vector<std::ptrdiff_t> sampleIndex0;
+    std::vector<std::ptrdiff_t> sampleIndex1;
+    std::vector<float> sampleW;
+    std::vector<int> sampleBlock;       // floor(t / L)
+    std::vector<int> columnSample;      // k - firstStep -> the index of the column sample at step k
+    std::vector<int> blockFirstSample;  // block - sampleBlock[0] -> its first sample (and one past the end)
+    // The point at exactly R before texel k: bilinear between columns k1, k1 + 1 (weight alpha of the
+    // second) and rows r, r + 1 (weight boundaryFrac[k]); index of (k1, r) for line 0, and of (k1 + 1, r).
+    std::vector<std::ptrdiff_t> boundaryIndex0;
+    std::vector<std::ptrdiff_t> boundaryIndex1;
+    std::vector<float> boundaryFrac;
+    std::vector<float> boundaryAlpha;
+    // The near field.
     std::vector<NearSegment> near;
     float coefMajor = 0.0f;  // the t -> 0+ slope: coefMajor (z(a + step) - zP) + coefMinor (z(r + side) - zP)
     float coefMinor = 0.0f;
     int sideMinor = 1;
 
-    DirectionPlan(double phi, int width, int height, double radius) : dir(phi, width, height) {
-        const int sizeA = dir.xMajor ? width : height;
-        const int sizeB = dir.xMajor ? height : width;
-        order = -dir.step;
-        dt = static_cast<float>(dir.dt);
-        warmup = std::max(kNear, static_cast<int>(std::ceil(radius / dir.dt)) + 1);
-        total = warmup + sizeA;
-        start = (order < 0 ? sizeA - 1 : 0) - order * warmup;
+    DirectionPlan(const LineDirection& direction, const PaddedRelief& relief, double radiusTiles)
+        : dir(direction), sizeA(relief.sizeA()), sizeB(relief.sizeB()), radius(radiusTiles) {
+        const int order = -dir.step;
+        const int start = order < 0 ? sizeA - 1 : 0;
         const double slope = dir.g * dir.step;  // minor per +1 major
-        column.resize(static_cast<std::size_t>(total));
-        minorFloor.resize(column.size());
-        minorFrac.resize(column.size());
-        crossFrac.assign(column.size(), -1.0f);
-        crossRow.assign(column.size(), 0);
-        texelRow.resize(column.size());
-        double bPrev = 0.0;
-        for (int k = 0; k < total; ++k) {
-            const auto kk = static_cast<std::size_t>(k);
-            const int a = start + order * k;
-            const double b = a * slope;
-            const double fb = std::floor(b);
-            column[kk] = MajorMinorDepth::wrap(a, sizeA);
-            minorFloor[kk] = MajorMinorDepth::wrap(static_cast<int>(fb), sizeB);
-            minorFrac[kk] = static_cast<float>(b - fb);
-            texelRow[kk] = MajorMinorDepth::wrap(static_cast<int>(std::lround(b)), sizeB);
-            if (k > 0) {
-                const double n = std::ceil(std::min(bPrev, b));
-                if (n > std::min(bPrev, b) && n < std::max(bPrev, b)) {
-                    crossFrac[kk] = static_cast<float>((n - bPrev) / (b - bPrev));
-                    crossRow[kk] = MajorMinorDepth::wrap(static_cast<int>(n), sizeB);
-                }
-            }
-            bPrev = b;
+        const double dt = dir.dt;
+        auto minorAt = [&](double k) { return (start + order * k) * slope; };
+        auto column = [&](int k) { return MajorMinorDepth::wrap(start + order * k, sizeA); };
+        auto wrapB = [&](double b) { return MajorMinorDepth::wrap(static_cast<int>(b), sizeB); };
+
+        texelColumn.resize(static_cast<std::size_t>(sizeA));
+        texelRow.resize(texelColumn.size());
+        for (int k = 0; k < sizeA; ++k) {
+            texelColumn[static_cast<std::size_t>(k)] = column(k);
+            texelRow[static_cast<std::size_t>(k)] = wrapB(std::round(minorAt(k)));
         }
-        // The near field's cell segments along a texel's own line, minor offset q g at step q.
+
+        const double farLength = radius - kNear * dt;
+        hasFar = farLength > 0.0 && sizeA > kNear;
+        if (hasFar) {
+            blockLength = static_cast<float>(farLength);
+            firstStep = static_cast<int>(std::floor(-radius / dt)) - 1;
+            const int lastStep = sizeA - 1 - kNear;
+            for (int k = firstStep; k <= lastStep; ++k) {
+                if (k > firstStep) {
+                    const double b0 = minorAt(k - 1);
+                    const double b1 = minorAt(k);
+                    const double n = std::ceil(std::min(b0, b1));
+                    if (n > std::min(b0, b1) && n < std::max(b0, b1)) {
+                        const double f = (n - b0) / (b1 - b0);
+                        const int row = wrapB(n);
+                        sampleT.push_back(static_cast<float>((k - 1 + f) * dt));
+                        sampleIndex0.push_back(relief.index(column(k - 1), row));
+                        sampleIndex1.push_back(relief.index(column(k), row));
+                        sampleW.push_back(static_cast<float>(f));
+                    }
+                }
+                const double b = minorAt(k);
+                const double fb = std::floor(b);
+                columnSample.push_back(static_cast<int>(sampleT.size()));
+                sampleT.push_back(static_cast<float>(k * dt));
+                sampleIndex0.push_back(relief.index(column(k), wrapB(fb)));
+                sampleIndex1.push_back(relief.index(column(k), wrapB(fb) + 1));
+                sampleW.push_back(static_cast<float>(b - fb));
+            }
+            for (const float t : sampleT)
+                sampleBlock.push_back(static_cast<int>(std::floor(t / blockLength)));
+            for (std::size_t s = 0; s < sampleBlock.size(); ++s)
+                while (static_cast<int>(blockFirstSample.size()) <= sampleBlock[s] - sampleBlock[0])
+                    blockFirstSample.push_back(static_cast<int>(s));
+            blockFirstSample.push_back(static_cast<int>(sampleBlock.size()));
+
+            for (int k = 0; k < sizeA; ++k) {
+                const double u = k - radius / dt;
+                const double k1 = std::floor(u);
+                const double b = minorAt(u);
+                const double fb = std::floor(b);
+                boundaryIndex0.push_back(relief.index(column(static_cast<int>(k1)), wrapB(fb)));
+                boundaryIndex1.push_back(relief.index(column(static_cast<int>(k1) + 1), wrapB(fb)));
+                boundaryFrac.push_back(static_cast<float>(b - fb));
+                boundaryAlpha.push_back(static_cast<float>(u - k1));
+            }
+        }
+
+        // The near field's cell segments along a texel's own line, minor offset q g at step q, up to
+        // kNear steps or R, whichever is nearer.
         double b0 = 0.0;
         for (int q = 1; q <= kNear; ++q) {
             const double b1 = q * dir.g;
-            const double t0 = (q - 1) * dir.dt;
-            const double t1 = q * dir.dt;
+            const double t0 = (q - 1) * dt;
+            const double t1 = q * dt;
             const double n = std::ceil(std::min(b0, b1));
             std::vector<std::pair<double, double>> cuts{{0.0, b0}};  // (alpha, b)
             if (n > std::min(b0, b1) && n < std::max(b0, b1)) cuts.emplace_back((n - b0) / (b1 - b0), n);
             cuts.emplace_back(1.0, b1);
             for (std::size_t s = 0; s + 1 < cuts.size(); ++s) {
+                double alpha0 = cuts[s].first;
+                double alpha1 = cuts[s + 1].first;
+                double beta0 = cuts[s].second;
+                double beta1 = cuts[s + 1].second;
+                const double s0 = t0 + alpha0 * (t1 - t0);
+                double s1 = t0 + alpha1 * (t1 - t0);
+                if (s0 >= radius) break;
+                if (s1 > radius) {  // the segment ends at R
+                    const double f = (radius - s0) / (s1 - s0);
+                    alpha1 = alpha0 + f * (alpha1 - alpha0);
+                    beta1 = beta0 + f * (beta1 - beta0);
+                    s1 = radius;
+                }
                 const double m = std::floor(0.5 * (cuts[s].second + cuts[s + 1].second));
-                near.push_back({q, static_cast<int>(m), static_cast<float>(cuts[s].first),
-                                static_cast<float>(cuts[s].second - m), static_cast<float>(cuts[s + 1].first),
-                                static_cast<float>(cuts[s + 1].second - m),
-                                static_cast<float>(t0 + cuts[s].first * (t1 - t0)),
-                                static_cast<float>(t0 + cuts[s + 1].first * (t1 - t0))});
+                near.push_back({q, static_cast<int>(m), static_cast<float>(alpha0),
+                                static_cast<float>(beta0 - m), static_cast<float>(alpha1),
+                                static_cast<float>(beta1 - m), static_cast<float>(s0),
+                                static_cast<float>(s1)});
             }
             b0 = b1;
         }
-        const double cx = std::abs(dir.cosPhi) * width;
-        const double cy = std::abs(dir.sinPhi) * height;
+        const double cx = std::abs(dir.cosPhi) * (dir.xMajor ? sizeA : sizeB);
+        const double cy = std::abs(dir.sinPhi) * (dir.xMajor ? sizeB : sizeA);
         coefMajor = static_cast<float>(dir.xMajor ? cx : cy);
         coefMinor = static_cast<float>(dir.xMajor ? cy : cx);
         sideMinor = dir.xMajor ? dir.sideY : dir.sideX;
     }
 };
 
-// The exact near field of texel (a, r) (unwrapped padded coordinates are fine within kPad).
-inline float nearField(const PaddedRelief& relief, const DirectionPlan& plan, int a, int r, float zP) {
-    const int step = plan.dir.step;
-    float best = plan.coefMajor * (relief.at(a + step, r) - zP) +
-                 plan.coefMinor * (relief.at(a, r + plan.sideMinor) - zP);
-    for (const NearSegment& s : plan.near) {
-        const int a0 = a + step * (s.q - 1);
-        const int a1 = a0 + step;
-        const float c00 = relief.at(a0, r + s.minor);
-        const float c10 = relief.at(a1, r + s.minor);
-        const float c01 = relief.at(a0, r + s.minor + 1);
-        const float c11 = relief.at(a1, r + s.minor + 1);
-        const float e = c00 - c10 - c01 + c11;
-        const float z1 = c00 + (c10 - c00) * s.alpha1 + (c01 - c00) * s.beta1 + e * s.alpha1 * s.beta1;
-        best = std::max(best, (z1 - zP) / s.t1);
-        const float curvature = e * (s.alpha1 - s.alpha0) * (s.beta1 - s.beta0);
-        if (curvature < 0.0f && s.t0 > 0.0f) {
-            const float z0 = c00 + (c10 - c00) * s.alpha0 + (c01 - c00) * s.beta0 + e * s.alpha0 * s.beta0;
-            raiseByArcInterior(best, zP, s.t0, z0, s.t1, z1, curvature);
-        }
-    }
-    return std::max(best, 0.0f);
+// The vertex of an upper hull (points[first..last], in order along the hull, all before q in t) that
+// q sees highest, i.e. the tangent from q. The elevation is unimodal along the hull, so a local search
+// from the previous answer finds it.
+inline int tangent(const HullPoint* points, int first, int last, int guess, HullPoint q) {
+    int c = std::clamp(guess, first, last);
+    while (c < last && orient(points[c], q, points[c + 1]) > 0.0f) ++c;
+    while (c > first && orient(points[c], q, points[c - 1]) > 0.0f) --c;
+    return c;
 }
 
-// Runs the sweep for every direction and hands each texel's tan h to sink(x, y, i, tan).
+// Per-thread storage for one line at a time.
+struct LineWork {
+    std::vector<float> z;           // the line's samples
+    std::vector<HullPoint> prefix;  // [1, prefixSize]: the current block's samples so far
+    std::vector<HullPoint> suffix;  // [1, suffixSize]: the previous block's, last sample at 1
+    struct Undo {
+        int size;
+        HullPoint overwritten;
+    };
+    std::vector<Undo> undo;
+};
+
+// The far field of every texel of line j: tan h over [tP - R, tP - kNear dt] into far (row-major,
+// sizeB rows of sizeA).
+void farFieldOfLine(const PaddedRelief& relief, const DirectionPlan& plan, int j, LineWork& work,
+                    float* far) {
+    const std::size_t count = plan.sampleT.size();
+    const float* zmap = relief.data();
+    const std::ptrdiff_t offset = static_cast<std::ptrdiff_t>(j) * relief.stride();
+    work.z.resize(count);
+    for (std::size_t s = 0; s < count; ++s) {
+        const float w = plan.sampleW[s];
+        work.z[s] =
+            (1.0f - w) * zmap[plan.sampleIndex0[s] + offset] + w * zmap[plan.sampleIndex1[s] + offset];
+    }
+    work.prefix.resize(count + 2);
+    work.suffix.resize(count + 2);
+    work.undo.resize(count + 1);
+    HullPoint* prefix = work.prefix.data();
+    HullPoint* suffix = work.suffix.data();
+    const float* t = plan.sampleT.data();
+    const float* z = work.z.data();
+
+    int prefixSize = 0;
+    int suffixSize = 0;
+    int undoSize = 0;
+    int prefixGuess = 1;
+    int suffixGuess = 1;
+    int block = plan.sampleBlock[0] - 2;  // none yet
+    int next = 0;                         // the next sample to push onto the prefix
+    int suffixLowest = 0;                 // the suffix's earliest sample; the suffix ends before suffixEnd
+    int suffixEnd = 0;
+    const auto dt = static_cast<float>(plan.dir.dt);
+    const auto radius = static_cast<float>(plan.radius);
+    const int sizeA = plan.sizeA;
+    const int sizeB = plan.sizeB;
+    for (int k = 0; k < sizeA; ++k) {
+        const auto kk = static_cast<std::size_t>(k);
+        const float tP = static_cast<float>(k) * dt;
+        const int hiSample = plan.columnSample[static_cast<std::size_t>(k - kNear - plan.firstStep)];
+        const float lo = tP - radius;
+        const int hiBlock = plan.sampleBlock[static_cast<std::size_t>(hiSample)];
+        if (hiBlock != block) {
+            // A new block: its prefix starts empty, and the previous block becomes the suffix, built
+            // from its last sample backwards.
+            block = hiBlock;
+            const int first = block - 1 - plan.sampleBlock[0];
+            const int b0 = first >= 0 ? plan.blockFirstSample[static_cast<std::size_t>(first)] : 0;
+            const int b1 = plan.blockFirstSample[static_cast<std::size_t>(first + 1)];
+            prefixSize = 0;
+            next = b1;
+            suffixSize = 0;
+            undoSize = 0;
+            for (int s = b1 - 1; s >= b0; --s) {
+                const HullPoint p{t[s], z[s]};
+                const int size = suffixSize;
+                while (suffixSize >= 2 && orient(p, suffix[suffixSize], suffix[suffixSize - 1]) >= 0.0f)
+                    --suffixSize;
+                ++suffixSize;
+                work.undo[static_cast<std::size_t>(undoSize++)] = {size, suffix[suffixSize]};
+                suffix[suffixSize] = p;
+            }
+            suffixLowest = b0;
+            suffixEnd = b1;
+            suffixGuess = 1;
+        }
+        for (; next <= hiSample; ++next) {
+            const HullPoint p{t[next], z[next]};
+            while (prefixSize >= 2 && orient(prefix[prefixSize - 1], prefix[prefixSize], p) >= 0.0f)
+                --prefixSize;
+            prefix[++prefixSize] = p;
+        }
+        // Samples before tP - R leave the suffix, last pushed first.
+        for (; suffixLowest < suffixEnd && t[suffixLowest] < lo; ++suffixLowest) {
+            const LineWork::Undo& u = work.undo[static_cast<std::size_t>(--undoSize)];
+            suffix[suffixSize] = u.overwritten;
+            suffixSize = u.size;
+        }
+
+        int row = j + plan.texelRow[kk];
+        const std::ptrdiff_t texel = relief.index(plan.texelColumn[kk], row);
+        const float zP = zmap[texel];
+        const HullPoint q{tP, zP};
+        float best = 0.0f;
+        if (prefixSize > 0) {
+            prefixGuess = tangent(prefix, 1, prefixSize, prefixGuess, q);
+            const HullPoint& h = prefix[prefixGuess];
+            best = std::max(best, (h.z - zP) / (tP - h.t));
+        }
+        if (suffixSize > 0) {
+            suffixGuess = tangent(suffix, 1, suffixSize, suffixGuess, q);
+            const HullPoint& h = suffix[suffixGuess];
+            best = std::max(best, (h.z - zP) / (tP - h.t));
+        }
+        // The point at exactly R.
+        const float fr = plan.boundaryFrac[kk];
+        const float alpha = plan.boundaryAlpha[kk];
+        const float* c0 = zmap + plan.boundaryIndex0[kk] + offset;
+        const float* c1 = zmap + plan.boundaryIndex1[kk] + offset;
+        const std::ptrdiff_t down = relief.stride();
+        const float zR = (1.0f - alpha) * ((1.0f - fr) * c0[0] + fr * c0[down]) +
+                         alpha * ((1.0f - fr) * c1[0] + fr * c1[down]);
+        best = std::max(best, (zR - zP) / radius);
+
+        if (row >= sizeB) row -= sizeB;
+        far[static_cast<std::size_t>(row) * static_cast<std::size_t>(sizeA) +
+            static_cast<std::size_t>(plan.texelColumn[kk])] = best;
+    }
+}
+
+// The near field of every texel of row b, combined with the far field already in tanRow: tanRow[a]
+// becomes tan h >= 0 of texel (a, b). Every texel's own line crosses the grid at the same offsets, so
+// each term is the same stencil across the row; the loops over a vectorise.
+__attribute__((target_clones("avx2", "default"))) void nearFieldOfRow(const PaddedRelief& relief,
+                                                                      const DirectionPlan& plan, int b,
+                                                                      float* tanRow) {
+    const int n = relief.sizeA();
+    const int step = plan.dir.step;
+    const float* zP = relief.row(b);
+    {
+        const float* ahead = zP + step;
+        const float* side = relief.row(b + plan.sideMinor);
+        const float cMajor = plan.coefMajor;
+        const float cMinor = plan.coefMinor;
+        for (int a = 0; a < n; ++a) {
+            const float slope = cMajor * (ahead[a] - zP[a]) + cMinor * (side[a] - zP[a]);
+            tanRow[a] = std::max(tanRow[a], std::max(slope, 0.0f));
+        }
+    }
+    for (const NearSegment& s : plan.near) {
+        const int shift = step * (s.q - 1);
+        const float* p00 = relief.row(b + s.minor) + shift;
+        const float* p10 = p00 + step;
+        const float* p01 = relief.row(b + s.minor + 1) + shift;
+        const float* p11 = p01 + step;
+        const float alpha0 = s.alpha0;
+        const float beta0 = s.beta0;
+        const float alpha1 = s.alpha1;
+        const float beta1 = s.beta1;
+        const float inv1 = 1.0f / s.t1;
+        if (s.t0 <= 0.0f) {  // the segment from P itself: only its end (the start is the t -> 0+ slope)
+            for (int a = 0; a < n; ++a) {
+                const float c00 = p00[a];
+                const float e = c00 - p10[a] - p01[a] + p11[a];
+                const float z1 = c00 + (p10[a] - c00) * alpha1 + (p01[a] - c00) * beta1 + e * alpha1 * beta1;
+                tanRow[a] = std::max(tanRow[a], (z1 - zP[a]) * inv1);
+            }
+            continue;
+        }
+        // Inside the cell the relief along the line is z(t) = qa + qb t + qc t^2 with
+        // qc = e dA dB / (t1 - t0)^2; its elevation (z - zP) / t peaks where qc t^2 = qa - zP, when that
+        // t lies inside the segment and the arc is concave (see raiseByArcInterior).
+        const float t0 = s.t0;
+        const float t1 = s.t1;
+        const float invLength = 1.0f / (t1 - t0);
+        const float twist = (alpha1 - alpha0) * (beta1 - beta0) * invLength * invLength;
+        const float t0Squared = t0 * t0;
+        const float t1Squared = t1 * t1;
+        for (int a = 0; a < n; ++a) {
+            const float c00 = p00[a];
+            const float du = p10[a] - c00;
+            const float dv = p01[a] - c00;
+            const float e = c00 - p10[a] - p01[a] + p11[a];
+            const float z0 = c00 + du * alpha0 + dv * beta0 + e * alpha0 * beta0;
+            const float z1 = c00 + du * alpha1 + dv * beta1 + e * alpha1 * beta1;
+            const float h = zP[a];
+            float best = std::max(tanRow[a], (z1 - h) * inv1);
+            const float qc = e * twist;
+            const bool concave = qc < 0.0f;
+            const float qb = (z1 - z0) * invLength - qc * (t0 + t1);
+            const float qa = z0 - qb * t0 - qc * t0Squared;
+            const float ratio = (qa - h) / (concave ? qc : -1.0f);
+            const bool inside = concave && ratio > t0Squared && ratio < t1Squared;
+            const float tm = std::sqrt(inside ? ratio : t1Squared);
+            const float peak = (qa + qb * tm + qc * tm * tm - h) / tm;
+            tanRow[a] = inside ? std::max(best, peak) : best;
+        }
+    }
+}
+
+// Runs the sweep for every direction and hands each row of tan h to sink(i, xMajor, b, tanRow): tanRow[a]
+// is the horizon of texel (a, b) in (major, minor) coordinates.
 template <typename Sink>
 void sweep(const Image& depth, const AoParams& params, const Sink& sink) {
-    const int w = depth.width();
-    const int h = depth.height();
     const auto scale = static_cast<float>(params.depthScale);
     const PaddedRelief byColumns(depth, true, scale);
     const PaddedRelief byRows(depth, false, scale);
+    std::vector<float> far(static_cast<std::size_t>(depth.width()) *
+                           static_cast<std::size_t>(depth.height()));
     for (int i = 0; i < params.directions; ++i) {
-        const DirectionPlan plan(2.0 * std::numbers::pi * i / params.directions, w, h, params.radius);
-        const PaddedRelief& relief = plan.dir.xMajor ? byColumns : byRows;
+        const LineDirection dir(2.0 * std::numbers::pi * i / params.directions, depth.width(),
+                                depth.height());
+        const PaddedRelief& relief = dir.xMajor ? byColumns : byRows;
+        const DirectionPlan plan(dir, relief, params.radius);
+        const int sizeA = relief.sizeA();
         const int sizeB = relief.sizeB();
-        tbb::parallel_for(tbb::blocked_range<int>(0, sizeB), [&](const tbb::blocked_range<int>& lines) {
-            std::vector<HullPoint> hull;
-            hull.reserve(256);
-            auto push = [&hull](HullPoint p) {
-                while (hull.size() >= 2 && orient(hull[hull.size() - 2], hull.back(), p) >= 0.0f)
-                    hull.pop_back();
-                hull.push_back(p);
-            };
-            auto wrapRow = [sizeB](int row) { return row >= sizeB ? row - sizeB : row; };
-            for (int j = lines.begin(); j != lines.end(); ++j) {
-                hull.clear();
-                for (int k = 0; k < plan.total; ++k) {
-                    const auto kk = static_cast<std::size_t>(k);
-                    const int a = plan.column[kk];
-                    if (plan.crossFrac[kk] >= 0.0f) {
-                        const int row = wrapRow(j + plan.crossRow[kk]);
-                        const float f = plan.crossFrac[kk];
-                        const float zc =
-                            (1.0f - f) * relief.at(plan.column[kk - 1], row) + f * relief.at(a, row);
-                        push({(static_cast<float>(k - 1) + f) * plan.dt, zc});
-                    }
-                    const int row = wrapRow(j + plan.minorFloor[kk]);
-                    const float f = plan.minorFrac[kk];
-                    push({static_cast<float>(k) * plan.dt,
-                          (1.0f - f) * relief.at(a, row) + f * relief.at(a, row + 1)});
-
-                    // The texel kNear steps on reads this hull as its far field.
-                    const int kP = k + kNear;
-                    if (kP < plan.warmup || kP >= plan.total) continue;
-                    const auto kq = static_cast<std::size_t>(kP);
-                    const int aP = plan.column[kq];
-                    const int rP = wrapRow(j + plan.texelRow[kq]);
-                    const float zP = relief.at(aP, rP);
-                    const HullPoint p{static_cast<float>(kP) * plan.dt, zP};
-                    std::size_t idx = hull.size() - 1;
-                    while (idx > 0 && orient(hull[idx], p, hull[idx - 1]) > 0.0f) --idx;
-                    const float far = (hull[idx].z - zP) / (p.t - hull[idx].t);
-                    const float tanH = std::max(far, nearField(relief, plan, aP, rP, zP));
-                    if (plan.dir.xMajor)
-                        sink(aP, rP, i, tanH);
-                    else
-                        sink(rP, aP, i, tanH);
-                }
+        if (plan.hasFar) {
+            tbb::parallel_for(tbb::blocked_range<int>(0, sizeB), [&](const tbb::blocked_range<int>& lines) {
+                LineWork work;
+                for (int j = lines.begin(); j != lines.end(); ++j)
+                    farFieldOfLine(relief, plan, j, work, far.data());
+            });
+        } else {
+            std::fill(far.begin(), far.end(), 0.0f);
+        }
+        tbb::parallel_for(tbb::blocked_range<int>(0, sizeB), [&](const tbb::blocked_range<int>& rows) {
+            for (int b = rows.begin(); b != rows.end(); ++b) {
+                float* tanRow = far.data() + static_cast<std::size_t>(b) * static_cast<std::size_t>(sizeA);
+                nearFieldOfRow(relief, plan, b, tanRow);
+                sink(i, dir.xMajor, b, static_cast<const float*>(tanRow), sizeA);
             }
         });
     }
@@ -263,26 +485,41 @@ HorizonMap sweepHorizons(const Image& depth, const AoParams& params) {
     result.radius = params.radius;
     result.tanHorizon.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(depth.height()) *
                              static_cast<std::size_t>(m));
-    sweep(depth, params, [&](int x, int y, int i, float tanH) {
-        result.tanHorizon[(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
-                           static_cast<std::size_t>(x)) *
-                              static_cast<std::size_t>(m) +
-                          static_cast<std::size_t>(i)] = tanH;
+    const auto dirs = static_cast<std::size_t>(m);
+    sweep(depth, params, [&](int i, bool xMajor, int b, const float* tanRow, int count) {
+        for (int a = 0; a < count; ++a) {
+            const int x = xMajor ? a : b;
+            const int y = xMajor ? b : a;
+            result.tanHorizon[(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                               static_cast<std::size_t>(x)) *
+                                  dirs +
+                              static_cast<std::size_t>(i)] = tanRow[a];
+        }
     });
     return result;
 }
 
 Image sweepAo(const Image& depth, const AoParams& params) {
-    Image ao(depth.width(), depth.height(), 1, 0.0f);
-    float* out = ao.pixels().data();
     const int w = depth.width();
-    sweep(depth, params, [&](int x, int y, int, float tanH) {
-        out[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] +=
-            1.0f / (1.0f + tanH * tanH);
+    const int h = depth.height();
+    // Directions with x major add into byRows (row y, along x); the others into byColumns (row x, along y).
+    std::vector<float> byRows(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0.0f);
+    std::vector<float> byColumns(byRows.size(), 0.0f);
+    sweep(depth, params, [&](int, bool xMajor, int b, const float* tanRow, int count) {
+        float* out = (xMajor ? byRows.data() : byColumns.data()) +
+                     static_cast<std::size_t>(b) * static_cast<std::size_t>(count);
+        for (int a = 0; a < count; ++a) out[a] += 1.0f / (1.0f + tanRow[a] * tanRow[a]);
     });
     // The mean, divided once at the end: a fully open texel sums to exactly M and gives exactly 1.
+    Image ao(w, h, 1, 0.0f);
     const auto directions = static_cast<float>(params.directions);
-    for (float& value : ao.pixels()) value /= directions;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            ao.at(x, y) = (byRows[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                  static_cast<std::size_t>(x)] +
+                           byColumns[static_cast<std::size_t>(x) * static_cast<std::size_t>(h) +
+                                     static_cast<std::size_t>(y)]) /
+                          directions;
     return ao;
 }
 

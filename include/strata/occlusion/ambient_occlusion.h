@@ -24,10 +24,10 @@
 // the hull of the line nearest to it (at most half a texel beside its own line) for distances beyond
 // 4 texel steps, and walks its own line exactly up to there. The lateral half texel is its one
 // approximation; it matters only beyond those 4 steps, and docs/occlusion.md measures it against the
-// exact walk: RMSE <= 0.0023 AO on every built-in pattern at 256^2. Each line starts R before its first
-// texel and keeps its whole profile from there, so a texel late on a line may see relief from up to
-// R + one tile away; such relief can add at most S (d0 - min d) / R to tan h, and nothing where a line
-// repeats with a period <= R (the axis directions).
+// exact walk: RMSE <= 0.0023 AO on every built-in pattern at 256^2. The window is exact: a texel sees
+// the line's samples between R and 4 steps away and the point at exactly R, nothing farther (each line
+// is cut into blocks as long as that window, with a hull for the start of the current block and an
+// undoable one for the end of the previous).
 //
 // Methods (AoMethod):
 //   Brute  the convention's AO (CONVENTIONS §4): the cosine-weighted fraction of the hemisphere that is
