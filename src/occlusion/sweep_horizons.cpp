@@ -1,7 +1,7 @@
 // The sweep horizon search (AoMethod::Sweep); see the comment on AoMethod::Sweep in
 // strata/occlusion/ambient_occlusion.h for what it computes and how exact it is.
 //
-// Per direction, two passes.
+// Per direction, two passes (then the sink reads the rows).
 //
 // The far field (distances kNear columns .. R). Parallel lines one texel apart sweep the map against
 // the direction. A line's profile is sampled at every major texel centre and every minor grid crossing
@@ -18,7 +18,7 @@
 // The near field (up to kNear columns), walked exactly on each texel's own line: every crossing and the
 // quadratic arc inside each cell, plus the t -> 0+ slope. Every texel's own line has the same offsets
 // to the grid, so this is one stencil with constant weights, run a row at a time over contiguous
-// memory (vectorised), and combined there with the far field.
+// memory (vectorised). It runs first; the far field then raises each texel's tan h.
 //
 // The line is at most half a texel beside P, and that offset only matters beyond kNear columns, where
 // it changes the elevation by at most (offset x slope across) / distance.
@@ -259,10 +259,10 @@ struct LineWork {
     std::vector<Undo> undo;
 };
 
-// The far field of every texel of line j: tan h over [tP - R, tP - kNear dt] into far (row-major,
-// sizeB rows of sizeA).
+// Raises tan h of every texel of line j (in tan, row-major: sizeB rows of sizeA, holding the near
+// field) to its far field over [tP - R, tP - kNear dt].
 void farFieldOfLine(const PaddedRelief& relief, const DirectionPlan& plan, int j, LineWork& work,
-                    float* far) {
+                    float* tan) {
     const std::size_t count = plan.sampleT.size();
     const float* zmap = relief.data();
     const std::ptrdiff_t offset = static_cast<std::ptrdiff_t>(j) * relief.stride();
@@ -337,10 +337,12 @@ void farFieldOfLine(const PaddedRelief& relief, const DirectionPlan& plan, int j
         }
 
         int row = j + plan.texelRow[kk];
-        const std::ptrdiff_t texel = relief.index(plan.texelColumn[kk], row);
-        const float zP = zmap[texel];
+        const float zP = zmap[relief.index(plan.texelColumn[kk], row)];
+        if (row >= sizeB) row -= sizeB;
+        float& out = tan[static_cast<std::size_t>(row) * static_cast<std::size_t>(sizeA) +
+                         static_cast<std::size_t>(plan.texelColumn[kk])];
         const HullPoint q{tP, zP};
-        float best = 0.0f;
+        float best = out;
         if (prefixSize > 0) {
             prefixGuess = tangent(prefix, 1, prefixSize, prefixGuess, q);
             const HullPoint& h = prefix[prefixGuess];
@@ -359,16 +361,12 @@ void farFieldOfLine(const PaddedRelief& relief, const DirectionPlan& plan, int j
         const std::ptrdiff_t down = relief.stride();
         const float zR = (1.0f - alpha) * ((1.0f - fr) * c0[0] + fr * c0[down]) +
                          alpha * ((1.0f - fr) * c1[0] + fr * c1[down]);
-        best = std::max(best, (zR - zP) / radius);
-
-        if (row >= sizeB) row -= sizeB;
-        far[static_cast<std::size_t>(row) * static_cast<std::size_t>(sizeA) +
-            static_cast<std::size_t>(plan.texelColumn[kk])] = best;
+        out = std::max(best, (zR - zP) / radius);
     }
 }
 
-// The near field of every texel of row b, combined with the far field already in tanRow: tanRow[a]
-// becomes tan h >= 0 of texel (a, b). Every texel's own line crosses the grid at the same offsets, so
+// The near field of every texel of row b into tanRow: tanRow[a] = tan h >= 0 of texel (a, b) over
+// distances up to kNear steps (or R). Every texel's own line crosses the grid at the same offsets, so
 // each term is the same stencil across the row; the loops over a vectorise.
 __attribute__((target_clones("avx2", "default"))) void nearFieldOfRow(const PaddedRelief& relief,
                                                                       const DirectionPlan& plan, int b,
@@ -383,7 +381,7 @@ __attribute__((target_clones("avx2", "default"))) void nearFieldOfRow(const Padd
         const float cMinor = plan.coefMinor;
         for (int a = 0; a < n; ++a) {
             const float slope = cMajor * (ahead[a] - zP[a]) + cMinor * (side[a] - zP[a]);
-            tanRow[a] = std::max(tanRow[a], std::max(slope, 0.0f));
+            tanRow[a] = std::max(slope, 0.0f);
         }
     }
     for (const NearSegment& s : plan.near) {
@@ -428,11 +426,13 @@ __attribute__((target_clones("avx2", "default"))) void nearFieldOfRow(const Padd
             const bool concave = qc < 0.0f;
             const float qb = (z1 - z0) * invLength - qc * (t0 + t1);
             const float qa = z0 - qb * t0 - qc * t0Squared;
-            const float ratio = (qa - h) / (concave ? qc : -1.0f);
-            const bool inside = concave && ratio > t0Squared && ratio < t1Squared;
-            const float tm = std::sqrt(inside ? ratio : t1Squared);
+            // Branch-free, so that the loop vectorises: the divisor and the root are kept finite where
+            // the peak is not used.
+            const float ratio = (qa - h) / std::min(qc, -1e-30f);
+            const bool inside = concave & (ratio > t0Squared) & (ratio < t1Squared);
+            const float tm = std::sqrt(std::min(std::max(ratio, t0Squared), t1Squared));
             const float peak = (qa + qb * tm + qc * tm * tm - h) / tm;
-            tanRow[a] = inside ? std::max(best, peak) : best;
+            tanRow[a] = std::max(best, inside ? peak : 0.0f);
         }
     }
 }
@@ -444,7 +444,7 @@ void sweep(const Image& depth, const AoParams& params, const Sink& sink) {
     const auto scale = static_cast<float>(params.depthScale);
     const PaddedRelief byColumns(depth, true, scale);
     const PaddedRelief byRows(depth, false, scale);
-    std::vector<float> far(static_cast<std::size_t>(depth.width()) *
+    std::vector<float> tan(static_cast<std::size_t>(depth.width()) *
                            static_cast<std::size_t>(depth.height()));
     for (int i = 0; i < params.directions; ++i) {
         const LineDirection dir(2.0 * std::numbers::pi * i / params.directions, depth.width(),
@@ -453,21 +453,20 @@ void sweep(const Image& depth, const AoParams& params, const Sink& sink) {
         const DirectionPlan plan(dir, relief, params.radius);
         const int sizeA = relief.sizeA();
         const int sizeB = relief.sizeB();
-        if (plan.hasFar) {
+        const auto rowOf = [&](int b) {
+            return tan.data() + static_cast<std::size_t>(b) * static_cast<std::size_t>(sizeA);
+        };
+        tbb::parallel_for(tbb::blocked_range<int>(0, sizeB), [&](const tbb::blocked_range<int>& rows) {
+            for (int b = rows.begin(); b != rows.end(); ++b) nearFieldOfRow(relief, plan, b, rowOf(b));
+        });
+        if (plan.hasFar)
             tbb::parallel_for(tbb::blocked_range<int>(0, sizeB), [&](const tbb::blocked_range<int>& lines) {
                 LineWork work;
                 for (int j = lines.begin(); j != lines.end(); ++j)
-                    farFieldOfLine(relief, plan, j, work, far.data());
+                    farFieldOfLine(relief, plan, j, work, tan.data());
             });
-        } else {
-            std::fill(far.begin(), far.end(), 0.0f);
-        }
         tbb::parallel_for(tbb::blocked_range<int>(0, sizeB), [&](const tbb::blocked_range<int>& rows) {
-            for (int b = rows.begin(); b != rows.end(); ++b) {
-                float* tanRow = far.data() + static_cast<std::size_t>(b) * static_cast<std::size_t>(sizeA);
-                nearFieldOfRow(relief, plan, b, tanRow);
-                sink(i, dir.xMajor, b, static_cast<const float*>(tanRow), sizeA);
-            }
+            for (int b = rows.begin(); b != rows.end(); ++b) sink(i, dir.xMajor, b, rowOf(b), sizeA);
         });
     }
 }
