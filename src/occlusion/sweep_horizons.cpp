@@ -406,7 +406,9 @@ __attribute__((target_clones("avx2", "default"))) void nearFieldOfRow(const Padd
         }
         // Inside the cell the relief along the line is z(t) = qa + qb t + qc t^2 with
         // qc = e dA dB / (t1 - t0)^2; its elevation (z - zP) / t peaks where qc t^2 = qa - zP, when that
-        // t lies inside the segment and the arc is concave (see raiseByArcInterior).
+        // t lies inside the segment and the arc is concave: raiseByArcInterior's formula (horizon_line.h),
+        // written out branch-free here so that the loop vectorises (calling a shared branch-free
+        // version of it measured 60 % slower at 512^2: GCC 12 no longer vectorised the loop).
         const float t0 = s.t0;
         const float t1 = s.t1;
         const float invLength = 1.0f / (t1 - t0);
