@@ -34,6 +34,14 @@ double meanOverDirections(int m, const auto& aoOfCosine) {
     return sum / m;
 }
 
+// The exact AO of texel (x, y): the mean of cos^2 h over the exact walk's horizons.
+double exactAo(const Image& depth, const AoParams& params, int x, int y) {
+    double sum = 0.0;
+    for (const float t : texelHorizons(depth, params, x, y))
+        sum += 1.0 / (1.0 + static_cast<double>(t) * static_cast<double>(t));
+    return sum / params.directions;
+}
+
 TEST(AoSweep, FlatReliefIsExactlyOne) {
     const Image flat(40, 24, 1, 0.7f);
     const Image ao = bakeAo(flat, sweepParams(0.5));
@@ -156,10 +164,7 @@ TEST(AoSweep, MatchesTheExactWalkOnEveryPattern) {
                 for (int gx = 0; gx < kGrid; ++gx) {
                     const int x = gx * kEvery + 1;
                     const int y = gy * kEvery + 2;
-                    double exact = 0.0;
-                    for (const float t : texelHorizons(depth, params, x, y))
-                        exact += 1.0 / (1.0 + static_cast<double>(t) * static_cast<double>(t));
-                    exact /= params.directions;
+                    const double exact = exactAo(depth, params, x, y);
                     diff[static_cast<std::size_t>(gy * kGrid + gx)] =
                         static_cast<double>(sweep.at(x, y)) - exact;
                 }
@@ -226,10 +231,7 @@ TEST(AoSweep, MatchesTheExactWalkAtSmallRadius) {
             int count = 0;
             for (int y = 1; y < kSize; y += 3)
                 for (int x = 2; x < kSize; x += 3) {
-                    double exact = 0.0;
-                    for (const float t : texelHorizons(depth, params, x, y))
-                        exact += 1.0 / (1.0 + static_cast<double>(t) * static_cast<double>(t));
-                    exact /= params.directions;
+                    const double exact = exactAo(depth, params, x, y);
                     const double d = static_cast<double>(sweep.at(x, y)) - exact;
                     squares += d * d;
                     ++count;
@@ -276,14 +278,14 @@ TEST(AoSweep, NonSquareMapsMatchTheExactWalk) {
         for (int x = 0; x < 64; x += 5) {
             const std::vector<float> exact = texelHorizons(depth, params, x, y);
             double sweepAo = 0.0;
-            double exactAo = 0.0;
+            double exactValue = 0.0;
             for (int i = 0; i < 16; ++i) {
                 const auto t = static_cast<double>(horizons.texel(x, y)[static_cast<std::size_t>(i)]);
                 const auto e = static_cast<double>(exact[static_cast<std::size_t>(i)]);
                 sweepAo += 1.0 / (1.0 + t * t) / 16.0;
-                exactAo += 1.0 / (1.0 + e * e) / 16.0;
+                exactValue += 1.0 / (1.0 + e * e) / 16.0;
             }
-            worst = std::max(worst, std::abs(sweepAo - exactAo));
+            worst = std::max(worst, std::abs(sweepAo - exactValue));
         }
     // Per texel, not RMSE: the lateral half texel can move one texel's AO by a few hundredths.
     EXPECT_LT(worst, 0.03);
