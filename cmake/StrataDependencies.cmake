@@ -9,6 +9,11 @@ find_package(CLI11 REQUIRED)                    # libcli11-dev
 find_package(nlohmann_json REQUIRED)            # nlohmann-json3-dev
 find_package(TBB REQUIRED)                      # libtbb-dev
 find_package(Threads REQUIRED)
+find_package(tinyobjloader REQUIRED)           # libtinyobjloader-dev: OBJ meshes
+find_package(TinyGLTF REQUIRED)                 # libtinygltf-dev: glTF 2.0 meshes (a shared library on Debian)
+# The gl layer: OpenGL 4.5 core through libepoxy (libepoxy-dev), headless through EGL (libegl-dev,
+# libegl-mesa0, libgl1-mesa-dri: Mesa, llvmpipe without a GPU). libepoxy resolves both GL and EGL.
+pkg_check_modules(EPOXY REQUIRED IMPORTED_TARGET epoxy)
 if(STRATA_BUILD_TESTS)
   find_package(GTest REQUIRED)                  # libgtest-dev
 endif()

@@ -9,6 +9,10 @@ packages=(
   cmake ninja-build g++-12 pkg-config
   # core libraries
   libpng-dev libstb-dev libtinyexr-dev libglm-dev libeigen3-dev libcli11-dev nlohmann-json3-dev libtbb-dev
+  # meshes
+  libtinyobjloader-dev libtinygltf-dev
+  # OpenGL 4.5 core through libepoxy, headless through EGL on Mesa (llvmpipe when there is no GPU)
+  libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   # tests and benchmarks; glslangValidator checks every shader
   libgtest-dev libbenchmark-dev glslang-tools
 )

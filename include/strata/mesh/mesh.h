@@ -1,0 +1,40 @@
+// strata::Mesh: an indexed triangle mesh with the per-vertex attributes relief mapping needs.
+//
+// Conventions (CONVENTIONS §1, §7): right-handed world space, +z up for the built-ins. Per vertex: position,
+// unit normal, uv (mesh texture coordinates; tile coordinates are tiling * uv), and a tangent frame:
+// tangent.xyz is the unit tangent T (direction of increasing u, orthogonal to the normal), tangent.w = +1 or
+// -1 is the handedness, and the bitangent is B = tangent.w * cross(normal, tangent.xyz) (direction of
+// increasing v). This is the MikkTSpace / glTF convention. Triangles are counter-clockwise seen from outside.
+#pragma once
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace strata {
+
+struct MeshVertex {
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f, 0.0f, 1.0f};
+    glm::vec2 uv{0.0f};
+    glm::vec4 tangent{1.0f, 0.0f, 0.0f, 1.0f};
+};
+
+struct Mesh {
+    std::string name;  // for messages: a built-in's name or the file's path
+    std::vector<MeshVertex> vertices;
+    std::vector<std::uint32_t> indices;  // three per triangle
+};
+
+// Axis-aligned bounds of the positions (min, max); both zero for an empty mesh.
+struct Bounds {
+    glm::vec3 min{0.0f};
+    glm::vec3 max{0.0f};
+};
+Bounds meshBounds(const Mesh& mesh);
+
+}  // namespace strata

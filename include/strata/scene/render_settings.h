@@ -1,0 +1,91 @@
+// What a relief render does, independent of OpenGL: technique, search steps, depth scale, tiling, shadows,
+// depth correction, AO, lighting and the picture. One parameter struct shared by the CLI, the scene JSON,
+// the viewer and the GL renderer (STYLE.md: a parameter is defined in one place). docs/render.md documents
+// every field with its scene-file key and flag.
+//
+// Techniques (Policarpo, Oliveira, Comba 2005, "Real-Time Relief Mapping on Arbitrary Polygonal Surfaces"):
+//   texture   colour only, lit with the mesh's own normal;
+//   normal    normal mapping: colour and normal at the fragment's own uv;
+//   parallax  parallax mapping with the Kaneko offset uv += (d_top - d) ... (docs/render.md gives the form);
+//   relief    the paper's linear + binary search along the tangent-space view ray (its Sec. 3 and the
+//             appendix's ray_intersect_rm), with self-shadowing by the same search along the light ray.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <optional>
+#include <string>
+
+namespace strata {
+
+enum class Technique { Texture, Normal, Parallax, Relief };
+
+// What a pixel of the picture holds (CONVENTIONS §7 for uv, shadow and depth).
+enum class RenderOutput {
+    Shaded,  // RGB, sRGB-encoded colour in [0, 1]
+    Uv,      // RGB = (u, v, hit) of the first hit, u, v in [0, 1) (modulo 1); (0, 0, 0) where nothing is hit
+    Shadow,  // gray, 1 where the first hit is lit by the light, 0 where it is shadowed or nothing is hit
+    Depth,   // gray, d of the first hit, 0 where nothing is hit
+};
+
+// How the AO map follows a render depth scale that differs from the one it was baked at.
+enum class AoRescale {
+    Off,    // use the map as baked
+    Paper,  // Limberger et al. 2015 Eq. 4-6, per fragment (shaders/shared/ao_rescale.h)
+    Exact,  // re-bake the AO of the depth map at the render's depth scale (the sweep baker), exact
+};
+
+struct ReliefSettings {
+    Technique technique = Technique::Relief;
+    // Linear search steps at normal incidence; the count grows linearly with the view angle to twice this
+    // at grazing incidence, n = round(mix(2 N, N, |cos theta|)) (theta from the normal). [1, 1024], the
+    // paper's shader uses 10.
+    int linearSteps = 10;
+    // Binary refinement steps after the linear search. [0, 32], the paper's shader uses 5.
+    int binarySteps = 5;
+    // Depth of d = 1 in tile widths (CONVENTIONS §2). nullopt: the material's own S.
+    std::optional<double> depthScale;
+    // Tiles per unit of mesh uv (tile coordinates = tiling * uv). > 0, default 1.
+    double tiling = 1.0;
+    bool selfShadow = true;       // the paper's light-ray test (relief only; other techniques are unshadowed)
+    bool depthCorrection = true;  // write gl_FragDepth of the relief hit (relief and parallax)
+    bool ao = true;               // texture-space AO multiplies the ambient term (if the material has AO)
+    AoRescale aoRescale = AoRescale::Exact;
+};
+
+// Blinn-Phong with one point light (paper appendix: ambient, diffuse, specular, shininess).
+struct Lighting {
+    glm::dvec3 lightPosition{2.0, -2.0, 3.0};  // world units
+    glm::dvec3 lightColor{1.0, 1.0, 1.0};      // linear RGB, multiplies diffuse and specular
+    double ambient = 0.25;                     // ambient intensity, times the albedo (and the AO)
+    double specular = 0.35;                    // specular intensity
+    double shininess = 48.0;                   // Blinn-Phong exponent, >= 1
+};
+
+struct PictureSettings {
+    int width = 1280;  // pixels, [1, 8192]
+    int height = 720;  // pixels, [1, 8192]
+    int samples = 4;   // MSAA samples per pixel for `shaded`; 1 = none. Debug outputs
+                       // always use 1 (CONVENTIONS §7: no antialiasing).
+    RenderOutput output = RenderOutput::Shaded;
+    glm::dvec3 background{0.16, 0.17, 0.19};  // sRGB-encoded colour of empty pixels (shaded only)
+};
+
+const char* toString(Technique technique);
+const char* toString(RenderOutput output);
+const char* toString(AoRescale rescale);
+// Parse the names above; throw Error(InvalidInput) listing the valid names (callers add the key or flag).
+Technique parseTechnique(const std::string& text);
+RenderOutput parseRenderOutput(const std::string& text);
+AoRescale parseAoRescale(const std::string& text);
+
+// The linear step count for a view ray at |cos theta| = cosTheta (see ReliefSettings::linearSteps).
+// The shaders compute the same (shaders/shared/relief_search.h is the GLSL).
+int adaptiveLinearSteps(int linearSteps, double cosTheta);
+
+// Throw Error(InvalidInput) naming the offending field for values outside the documented ranges.
+void validate(const ReliefSettings& settings);
+void validate(const Lighting& lighting);
+void validate(const PictureSettings& picture);
+
+}  // namespace strata

@@ -1,0 +1,120 @@
+#include "strata/scene/render_settings.h"
+
+#include "strata/core/error.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace strata {
+
+const char* toString(Technique technique) {
+    switch (technique) {
+        case Technique::Texture:
+            return "texture";
+        case Technique::Normal:
+            return "normal";
+        case Technique::Parallax:
+            return "parallax";
+        case Technique::Relief:
+            return "relief";
+    }
+    return "?";
+}
+
+const char* toString(RenderOutput output) {
+    switch (output) {
+        case RenderOutput::Shaded:
+            return "shaded";
+        case RenderOutput::Uv:
+            return "uv";
+        case RenderOutput::Shadow:
+            return "shadow";
+        case RenderOutput::Depth:
+            return "depth";
+    }
+    return "?";
+}
+
+const char* toString(AoRescale rescale) {
+    switch (rescale) {
+        case AoRescale::Off:
+            return "off";
+        case AoRescale::Paper:
+            return "paper";
+        case AoRescale::Exact:
+            return "exact";
+    }
+    return "?";
+}
+
+Technique parseTechnique(const std::string& text) {
+    for (Technique t : {Technique::Texture, Technique::Normal, Technique::Parallax, Technique::Relief}) {
+        if (text == toString(t)) return t;
+    }
+    throw Error(ErrorKind::InvalidInput,
+                "unknown technique '" + text + "' (expected texture, normal, parallax or relief)");
+}
+
+RenderOutput parseRenderOutput(const std::string& text) {
+    for (RenderOutput o :
+         {RenderOutput::Shaded, RenderOutput::Uv, RenderOutput::Shadow, RenderOutput::Depth}) {
+        if (text == toString(o)) return o;
+    }
+    throw Error(ErrorKind::InvalidInput,
+                "unknown output '" + text + "' (expected shaded, uv, shadow or depth)");
+}
+
+AoRescale parseAoRescale(const std::string& text) {
+    for (AoRescale r : {AoRescale::Off, AoRescale::Paper, AoRescale::Exact}) {
+        if (text == toString(r)) return r;
+    }
+    throw Error(ErrorKind::InvalidInput, "unknown AO rescale '" + text + "' (expected off, paper or exact)");
+}
+
+int adaptiveLinearSteps(int linearSteps, double cosTheta) {
+    const double c = std::clamp(std::abs(cosTheta), 0.0, 1.0);
+    // mix(2N, N, c), rounded half up like GLSL's floor(x + 0.5).
+    return static_cast<int>(std::floor(2.0 * linearSteps + (linearSteps - 2.0 * linearSteps) * c + 0.5));
+}
+
+namespace {
+
+[[noreturn]] void outOfRange(const std::string& field, const std::string& range, double value) {
+    throw Error(ErrorKind::InvalidInput, field + ": must be " + range + ", got " + formatNumber(value));
+}
+
+bool finite(const glm::dvec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+}  // namespace
+
+void validate(const ReliefSettings& s) {
+    if (s.linearSteps < 1 || s.linearSteps > 1024) outOfRange("linear_steps", "in [1, 1024]", s.linearSteps);
+    if (s.binarySteps < 0 || s.binarySteps > 32) outOfRange("binary_steps", "in [0, 32]", s.binarySteps);
+    if (s.depthScale && !(std::isfinite(*s.depthScale) && *s.depthScale > 0.0 && *s.depthScale <= 10.0)) {
+        outOfRange("depth_scale", "in (0, 10]", *s.depthScale);
+    }
+    if (!(std::isfinite(s.tiling) && s.tiling > 0.0 && s.tiling <= 4096.0)) {
+        outOfRange("tiling", "in (0, 4096]", s.tiling);
+    }
+}
+
+void validate(const Lighting& l) {
+    if (!finite(l.lightPosition)) throw Error(ErrorKind::InvalidInput, "light: position must be finite");
+    if (!finite(l.lightColor) || l.lightColor.x < 0.0 || l.lightColor.y < 0.0 || l.lightColor.z < 0.0) {
+        throw Error(ErrorKind::InvalidInput, "light_color: components must be finite and >= 0");
+    }
+    if (!(std::isfinite(l.ambient) && l.ambient >= 0.0)) outOfRange("ambient", ">= 0", l.ambient);
+    if (!(std::isfinite(l.specular) && l.specular >= 0.0)) outOfRange("specular", ">= 0", l.specular);
+    if (!(std::isfinite(l.shininess) && l.shininess >= 1.0)) outOfRange("shininess", ">= 1", l.shininess);
+}
+
+void validate(const PictureSettings& p) {
+    if (p.width < 1 || p.width > 8192) outOfRange("width", "in [1, 8192]", p.width);
+    if (p.height < 1 || p.height > 8192) outOfRange("height", "in [1, 8192]", p.height);
+    if (p.samples < 1 || p.samples > 16) outOfRange("samples", "in [1, 16]", p.samples);
+    if (!finite(p.background)) throw Error(ErrorKind::InvalidInput, "background: must be finite");
+}
+
+}  // namespace strata
