@@ -7,6 +7,8 @@
 #include "strata/relief/relief_texture.h"
 #include "strata/relief/texture_set.h"
 
+#include "core/json_reader.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -20,78 +22,7 @@ namespace strata {
 
 namespace {
 
-// Reads typed values from a JSON object, naming "<file>: <path>.<key>" in every error, and
-// rejecting keys it was never asked about.
-class ObjectReader {
-public:
-    ObjectReader(const json& object, std::string where, std::string file)
-        : mObject(object), mWhere(std::move(where)), mFile(std::move(file)) {
-        if (!mObject.is_object())
-            fail(mWhere, std::string("must be a JSON object, got ") + mObject.type_name());
-    }
-
-    [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-        throw Error(ErrorKind::InvalidInput, mFile + ": " + key + ": " + what);
-    }
-    std::string keyPath(const std::string& key) const { return mWhere.empty() ? key : mWhere + "." + key; }
-    bool has(const std::string& key) const { return mObject.contains(key); }
-
-    std::optional<double> number(const std::string& key) {
-        const json* value = find(key);
-        if (!value) return std::nullopt;
-        if (!value->is_number())
-            fail(keyPath(key), std::string("must be a number, got ") + value->type_name());
-        const double number = value->get<double>();
-        if (!std::isfinite(number)) fail(keyPath(key), "must be a finite number");
-        return number;
-    }
-
-    std::optional<long long> integer(const std::string& key, long long min, long long max) {
-        const json* value = find(key);
-        if (!value) return std::nullopt;
-        if (!value->is_number_integer())
-            fail(keyPath(key), std::string("must be an integer, got ") +
-                                   (value->is_number() ? value->dump() : value->type_name()));
-        const auto number = value->get<long long>();
-        if (number < min || number > max)
-            fail(keyPath(key), "must be in [" + std::to_string(min) + ", " + std::to_string(max) + "], got " +
-                                   std::to_string(number));
-        return number;
-    }
-
-    std::optional<std::string> string(const std::string& key) {
-        const json* value = find(key);
-        if (!value) return std::nullopt;
-        if (!value->is_string())
-            fail(keyPath(key), std::string("must be a string, got ") + value->type_name());
-        return value->get<std::string>();
-    }
-
-    const json* array(const std::string& key) {
-        const json* value = find(key);
-        if (value && !value->is_array())
-            fail(keyPath(key), std::string("must be an array, got ") + value->type_name());
-        return value;
-    }
-
-    // Call after reading every known key: any other key is an error (a typo must not pass silently).
-    void rejectUnknown(const std::set<std::string>& alsoAllowed = {}) const {
-        for (const auto& [key, value] : mObject.items())
-            if (!mSeen.count(key) && !alsoAllowed.count(key)) fail(keyPath(key), "unknown key");
-    }
-
-private:
-    const json* find(const std::string& key) {
-        mSeen.insert(key);
-        const auto it = mObject.find(key);
-        return it == mObject.end() ? nullptr : &*it;
-    }
-
-    const json& mObject;
-    std::string mWhere;
-    std::string mFile;
-    std::set<std::string> mSeen;
-};
+using ObjectReader = detail::JsonObjectReader;
 
 MaterialLayer parseLayer(const json& object, const std::string& where, const std::string& file,
                          const fs::path& baseDir) {
@@ -301,6 +232,21 @@ std::vector<fs::path> materialInputs(const Material& material) {
         for (const auto& file : {layer.depthFile, layer.heightFile, layer.normalFile, layer.colorFile})
             if (file) inputs.push_back(*file);
     return inputs;
+}
+
+ReliefTexture composeMaterial(const Material& material, std::vector<std::string>* notes,
+                              const MetaAoProgress& progress) {
+    if (progress) progress("loading " + std::to_string(material.layers.size()) + " layers");
+    const std::vector<CompositionLayer> layers = loadLayers(material, notes);
+    if (progress) progress("composing");
+    Composition composition = compose(layers, material.compose);
+    if (notes) notes->insert(notes->end(), composition.warnings.begin(), composition.warnings.end());
+    if (material.ao) {
+        if (progress) progress(std::string("ambient occlusion (") + toString(*material.ao) + ")");
+        composition.texture.ao =
+            metaReliefAo(layers, material.compose, composition, *material.ao, material.aoParams, progress);
+    }
+    return std::move(composition.texture);
 }
 
 }  // namespace strata

@@ -81,6 +81,12 @@ Material readMaterial(const std::filesystem::path& path);
 // luminance; such notes are appended to `notes`). Throws on unreadable or invalid files.
 std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<std::string>* notes = nullptr);
 
+// The material's texture: its layers loaded (loadLayers), composed (compose) and, unless material.ao is
+// none, its AO map made by metaReliefAo. Warnings of the composition and notes of the loaders are appended
+// to `notes`; `progress` (may be empty) hears a line before each long step. Throws like those functions.
+ReliefTexture composeMaterial(const Material& material, std::vector<std::string>* notes = nullptr,
+                              const MetaAoProgress& progress = {});
+
 // All input files a material reads (for the never-overwrite-an-input check).
 std::vector<std::filesystem::path> materialInputs(const Material& material);
 

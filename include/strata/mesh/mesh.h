@@ -5,6 +5,10 @@
 // tangent.xyz is the unit tangent T (direction of increasing u, orthogonal to the normal), tangent.w = +1 or
 // -1 is the handedness, and the bitangent is B = tangent.w * cross(normal, tangent.xyz) (direction of
 // increasing v). This is the MikkTSpace / glTF convention. Triangles are counter-clockwise seen from outside.
+//
+// Related headers: builtin_meshes.h (teapot, cube, sphere, ... and the unit quad of CONVENTIONS §7),
+// mesh_loader.h (OBJ / glTF files), tangent_space.h (normals and MikkTSpace-equivalent tangents),
+// mesh_repair.h (what is done to meshes from outside). docs/meshes.md has the whole story.
 #pragma once
 
 #include <glm/vec2.hpp>
@@ -17,17 +21,25 @@
 
 namespace strata {
 
+// One vertex. Vertices are not shared across UV seams or creases: a position with two uvs or two normals
+// is two vertices.
 struct MeshVertex {
+    // World/object-space position (the units of the file; the built-ins are about 1 across).
     glm::vec3 position{0.0f};
+    // Unit shading normal N, pointing out of the surface.
     glm::vec3 normal{0.0f, 0.0f, 1.0f};
+    // Mesh texture coordinates; v increases upwards in the image (CONVENTIONS §1: v = 1 is the file's
+    // top row). Not limited to [0, 1]: tile coordinates are tiling * uv and wrap.
     glm::vec2 uv{0.0f};
+    // xyz: unit tangent T along increasing u, orthogonal to N; w: handedness, exactly +1 or -1, with
+    // bitangent B = w * cross(N, T) along increasing v.
     glm::vec4 tangent{1.0f, 0.0f, 0.0f, 1.0f};
 };
 
 struct Mesh {
     std::string name;  // for messages: a built-in's name or the file's path
     std::vector<MeshVertex> vertices;
-    std::vector<std::uint32_t> indices;  // three per triangle
+    std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from outside
 };
 
 // Axis-aligned bounds of the positions (min, max); both zero for an empty mesh.

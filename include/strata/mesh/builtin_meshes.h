@@ -1,0 +1,52 @@
+// Built-in meshes: the Utah teapot, simple solids and the unit quad of CONVENTIONS §7.
+//
+// Every built-in is right-handed with +z up, has counter-clockwise outward triangles, unit normals, uvs and
+// tangents with handedness (mesh.h), all analytic (not estimated from the triangles). docs/meshes.md shows
+// the sizes and UV layouts:
+//   teapot    Newell's 32 bicubic Bezier patches (teapot.h), spout along +x, handle along -x, standing on
+//             z = 0, scaled so that its height is exactly 1 (x in [-0.952, 1.090], y in [-0.635, 0.635]).
+//             Each patch is its own (n+1) x (n+1) grid of vertices with uv = the patch parameters (s, t) in
+//             [0, 1]^2, so uv seams lie along every patch edge; vertex (i, j) of patch p (i along s, j along
+//             t) is vertices[p * (n+1)^2 + j * (n+1) + i]. T is along dP/ds and B along dP/dt (w = +1).
+//             Where a patch edge collapses to a point (knob top, bottom centre) N and T are the limits
+//             (N = +z / -z there) and the zero-area triangles along it are left out: 32 * 2n^2 - 8n
+//             triangles.
+//   cube      the unit cube [-0.5, 0.5]^3; each face is an n x n grid with its own uvs in [0, 1]^2, laid out
+//             so that a texture reads upright seen from outside (side faces: v up along +z; top: u = +x,
+//             v = +y; bottom: u = +x, v = -y).
+//   sphere    radius 0.5 at the origin (a UV sphere): u = longitude / 2 pi from +x counter-clockwise about
+//             +z, v = 0 at the south pole to 1 at the north pole; 4n segments around, 2n from pole to pole.
+//   torus     about +z, major radius 0.35 and tube radius 0.15 (1 across, 0.3 high): u around +z from +x,
+//             v around the tube from the outer equator over the top; 4n x 4n segments.
+//   cylinder  radius 0.5, z in [-0.5, 0.5], with caps: side u around +z from +x and v = z + 0.5 (4n
+//             segments around, n along z); caps are fans with planar uvs (top: u = x + 0.5, v = y + 0.5;
+//             bottom: u = x + 0.5, v = 0.5 - y, so both read upright from outside).
+//   plane     the square [-1, 1]^2 in z = 0 facing +z, uv = ((x + 1) / 2, (y + 1) / 2), an n x n grid.
+//   quad      exactly the unit quad of CONVENTIONS §7: x, y in [0, 1], z = 0, uv = (x, y), T = +x, B = +y,
+//             N = +z, four vertices (0,0), (1,0), (1,1), (0,1) and two triangles {0,1,2}, {0,2,3}. Ignores
+//             the tessellation.
+#pragma once
+
+#include "strata/mesh/mesh.h"
+
+#include <string>
+#include <vector>
+
+namespace strata {
+
+struct BuiltinMeshParams {
+    // Segments per patch edge (teapot), per quarter turn (sphere, torus, cylinder) or per edge (cube
+    // faces, plane). Range [1, 256]; default 16: the teapot is then 32 * 17^2 = 9248 vertices and 16256
+    // triangles, smooth in silhouette at 1280x720. The quad ignores it.
+    int tessellation = 16;
+};
+
+// The names makeBuiltinMesh accepts, in a fixed order: teapot, cube, sphere, torus, cylinder, plane, quad.
+std::vector<std::string> builtinMeshList();
+
+// Builds a built-in mesh (see the list above); Mesh::name is the name.
+// Throws Error(InvalidInput) for an unknown name (the message lists the known ones) or a tessellation
+// outside [1, 256].
+Mesh makeBuiltinMesh(const std::string& name, const BuiltinMeshParams& params = {});
+
+}  // namespace strata

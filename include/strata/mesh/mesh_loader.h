@@ -1,0 +1,46 @@
+// Loading triangle meshes from files: Wavefront OBJ (tinyobjloader) and glTF 2.0 (tinygltf).
+//
+// By extension (case-insensitive):
+//  .obj          polygons are triangulated; every face must have texture coordinates (vt); faces may
+//                use several materials (ignored). Vertices are unwelded: one vertex per distinct
+//                (position, uv, normal) index triple. OBJ's vt has v up, like Strata: no flip.
+//  .gltf / .glb  every triangle primitive (TRIANGLES, TRIANGLE_STRIP, TRIANGLE_FAN) of every mesh
+//                instanced by the nodes of the default scene (scene 0 if none is marked; every mesh once,
+//                untransformed, if the file has no scenes), with the node transforms applied: positions by
+//                the world matrix, normals by its inverse transpose, tangents by its upper 3x3 (w negated
+//                and the winding reversed when the matrix mirrors). Points and lines are skipped (counted).
+//                TEXCOORD_0 is the uv, with glTF's top-left origin flipped to Strata's: v = 1 - v_gltf.
+//                A TANGENT attribute is used as given (its B = w * cross(N, T) already points image-up,
+//                i.e. along Strata's increasing v), re-orthogonalised against the normal.
+//                Images are not decoded.
+// Then the mesh is repaired (mesh_repair.h); a file without normals gets area-weighted smooth normals and
+// one without tangents MikkTSpace-equivalent tangents (tangent_space.h). Mesh::name is the path.
+//
+// Errors (the message starts with the path):
+//   Error(Io)            the file does not exist or cannot be read;
+//   Error(Unsupported)   another extension; a sparse glTF accessor;
+//   Error(InvalidInput)  the parser's message for a malformed file; "has no texture coordinates; relief
+//                        mapping needs them"; non-finite values; indices out of range; an empty mesh; and
+//                        the refusals of repairMesh.
+#pragma once
+
+#include "strata/mesh/mesh.h"
+#include "strata/mesh/mesh_repair.h"
+
+#include <filesystem>
+
+namespace strata {
+
+struct MeshLoadOptions {
+    // Ignore the file's normals and compute area-weighted smooth normals. Default false.
+    bool recomputeNormals = false;
+    // Ignore the file's tangents (glTF TANGENT) and compute them (tangent_space.h). Default false.
+    bool recomputeTangents = false;
+};
+
+Mesh loadMesh(const std::filesystem::path& path, const MeshLoadOptions& options = {});
+
+// As above, and reports what was repaired or computed.
+Mesh loadMesh(const std::filesystem::path& path, const MeshLoadOptions& options, MeshRepairReport& report);
+
+}  // namespace strata

@@ -1,0 +1,288 @@
+#include "strata/mesh/builtin_meshes.h"
+
+#include "strata/core/error.h"
+#include "strata/mesh/mesh_repair.h"
+#include "strata/mesh/teapot.h"
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+namespace strata {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr int kMaxTessellation = 256;
+
+// An analytic surface sample: position, outward normal, a tangent along increasing u and a vector along
+// increasing v (only its side matters: it sets the handedness).
+struct Sample {
+    glm::dvec3 position;
+    glm::dvec3 normal;
+    glm::dvec3 dpdu;
+    glm::dvec3 dpdv;
+    glm::dvec2 uv;
+};
+
+MeshVertex toVertex(const Sample& s) {
+    const glm::dvec3 n = glm::normalize(s.normal);
+    const glm::dvec3 t = glm::normalize(s.dpdu - n * glm::dot(n, s.dpdu));
+    const double w = glm::dot(glm::cross(n, t), s.dpdv) < 0.0 ? -1.0 : 1.0;
+    MeshVertex v;
+    v.position = glm::vec3(s.position);
+    v.normal = glm::vec3(n);
+    v.uv = glm::vec2(s.uv);
+    v.tangent = glm::vec4(glm::vec3(t), static_cast<float>(w));
+    return v;
+}
+
+// Appends an (nu + 1) x (nv + 1) grid of samples f(i, j), vertex (i, j) at base + j * (nu + 1) + i, and two
+// counter-clockwise triangles per cell (counter-clockwise in uv is counter-clockwise seen from the normal
+// when N = T x B). Triangles with two corners at the same position (a grid edge collapsed to a point: a
+// pole) are left out.
+void appendGrid(Mesh& mesh, int nu, int nv, const std::function<Sample(int, int)>& f) {
+    const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+    for (int j = 0; j <= nv; ++j) {
+        for (int i = 0; i <= nu; ++i) mesh.vertices.push_back(toVertex(f(i, j)));
+    }
+    const auto at = [&](int i, int j) { return base + static_cast<std::uint32_t>(j * (nu + 1) + i); };
+    const auto addTriangle = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        const glm::vec3 &pa = mesh.vertices[a].position, &pb = mesh.vertices[b].position,
+                        &pc = mesh.vertices[c].position;
+        if (pa == pb || pb == pc || pa == pc) return;
+        mesh.indices.insert(mesh.indices.end(), {a, b, c});
+    };
+    for (int j = 0; j < nv; ++j) {
+        for (int i = 0; i < nu; ++i) {
+            addTriangle(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+            addTriangle(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+        }
+    }
+}
+
+double frac(int i, int n) {
+    return static_cast<double>(i) / static_cast<double>(n);
+}
+
+// --- teapot -------------------------------------------------------------------------------------------
+
+struct PatchEval {
+    glm::dvec3 p, ps, pt, pst;
+};
+
+void bernstein(double u, double b[4], double db[4]) {
+    const double v = 1.0 - u;
+    b[0] = v * v * v;
+    b[1] = 3.0 * u * v * v;
+    b[2] = 3.0 * u * u * v;
+    b[3] = u * u * u;
+    db[0] = -3.0 * v * v;
+    db[1] = 3.0 * v * v - 6.0 * u * v;
+    db[2] = 6.0 * u * v - 3.0 * u * u;
+    db[3] = 3.0 * u * u;
+}
+
+PatchEval evalPatch(const std::array<glm::vec3, 16>& c, double s, double t) {
+    double bs[4], dbs[4], bt[4], dbt[4];
+    bernstein(s, bs, dbs);
+    bernstein(t, bt, dbt);
+    PatchEval e{};
+    for (int j = 0; j < 4; ++j) {
+        for (int i = 0; i < 4; ++i) {
+            const glm::dvec3 cp(c[static_cast<std::size_t>(4 * j + i)]);
+            e.p += bs[i] * bt[j] * cp;
+            e.ps += dbs[i] * bt[j] * cp;
+            e.pt += bs[i] * dbt[j] * cp;
+            e.pst += dbs[i] * dbt[j] * cp;
+        }
+    }
+    return e;
+}
+
+// Below this |dP/ds| (teapot height 1; regular patches have |dP/ds| > 0.01) an edge has collapsed to a point.
+constexpr double kCollapsed = 1e-9;
+
+Sample teapotSample(const std::array<glm::vec3, 16>& c, double s, double t) {
+    const PatchEval e = evalPatch(c, s, t);
+    glm::dvec3 ps = e.ps, pt = e.pt;
+    // On a collapsed edge t = 0 (or 1), dP/ds = 0, but dP/ds = t * d2P/dsdt + O(t^2) next to it: the limit
+    // direction of dP/ds is +-d2P/dsdt, and with it the limit of the normal cross(dP/ds, dP/dt).
+    if (glm::length(ps) < kCollapsed) ps = (t < 0.5 ? 1.0 : -1.0) * e.pst;
+    if (glm::length(pt) < kCollapsed) pt = (s < 0.5 ? 1.0 : -1.0) * e.pst;
+    return Sample{e.p, glm::cross(ps, pt), ps, pt, glm::dvec2(s, t)};
+}
+
+Mesh makeTeapot(int n) {
+    Mesh mesh;
+    for (int patch = 0; patch < kTeapotPatchCount; ++patch) {
+        const std::array<glm::vec3, 16> c = teapotPatchControlPoints(patch);
+        appendGrid(mesh, n, n, [&](int i, int j) { return teapotSample(c, frac(i, n), frac(j, n)); });
+    }
+    return mesh;
+}
+
+// --- simple solids ------------------------------------------------------------------------------------
+
+Mesh makeCube(int n) {
+    struct Face {
+        glm::dvec3 normal, tangent, bitangent;
+    };
+    // T x B = N on every face; side faces have v up (+z), the top u = +x, v = +y, the bottom u = +x, v = -y.
+    const Face faces[6] = {
+        {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},  {{-1, 0, 0}, {0, -1, 0}, {0, 0, 1}},
+        {{0, 1, 0}, {-1, 0, 0}, {0, 0, 1}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}},
+        {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  {{0, 0, -1}, {1, 0, 0}, {0, -1, 0}},
+    };
+    Mesh mesh;
+    for (const Face& face : faces) {
+        appendGrid(mesh, n, n, [&](int i, int j) {
+            const double u = frac(i, n), v = frac(j, n);
+            const glm::dvec3 p = 0.5 * face.normal + (u - 0.5) * face.tangent + (v - 0.5) * face.bitangent;
+            return Sample{p, face.normal, face.tangent, face.bitangent, {u, v}};
+        });
+    }
+    return mesh;
+}
+
+Mesh makeSphere(int n) {
+    constexpr double kRadius = 0.5;
+    const int nu = 4 * n, nv = 2 * n;
+    Mesh mesh;
+    appendGrid(mesh, nu, nv, [&](int i, int j) {
+        double u = frac(i, nu);
+        const double v = frac(j, nv);
+        // A pole vertex serves one triangle: (i, 0) that of cell i, (i, nv) that of cell i - 1. Give it the u
+        // (and tangent) of that cell's middle; (nu, 0) and (0, nv) serve none and are removed below.
+        if (j == 0) u += 0.5 / nu;
+        if (j == nv) u -= 0.5 / nu;
+        const double phi = kTwoPi * u, lat = std::numbers::pi * (v - 0.5);
+        const glm::dvec3 n3(std::cos(lat) * std::cos(phi), std::cos(lat) * std::sin(phi), std::sin(lat));
+        const glm::dvec3 east(-std::sin(phi), std::cos(phi), 0.0);
+        const glm::dvec3 north(-std::sin(lat) * std::cos(phi), -std::sin(lat) * std::sin(phi), std::cos(lat));
+        return Sample{kRadius * n3, n3, east, north, {u, v}};
+    });
+    // The pole rows have one vertex too many, used by no triangle.
+    repairMesh(mesh);
+    return mesh;
+}
+
+Mesh makeTorus(int n) {
+    constexpr double kMajor = 0.35, kMinor = 0.15;
+    const int nu = 4 * n, nv = 4 * n;
+    Mesh mesh;
+    appendGrid(mesh, nu, nv, [&](int i, int j) {
+        const double u = frac(i, nu), v = frac(j, nv);
+        const double phi = kTwoPi * u, theta = kTwoPi * v;
+        const glm::dvec3 radial(std::cos(phi), std::sin(phi), 0.0);
+        const glm::dvec3 n3 = std::cos(theta) * radial + glm::dvec3(0, 0, std::sin(theta));
+        const glm::dvec3 p = kMajor * radial + kMinor * n3;
+        const glm::dvec3 east(-std::sin(phi), std::cos(phi), 0.0);
+        const glm::dvec3 up = -std::sin(theta) * radial + glm::dvec3(0, 0, std::cos(theta));
+        return Sample{p, n3, east, up, {u, v}};
+    });
+    return mesh;
+}
+
+Mesh makeCylinder(int n) {
+    constexpr double kRadius = 0.5;
+    const int around = 4 * n;
+    Mesh mesh;
+    appendGrid(mesh, around, n, [&](int i, int j) {
+        const double u = frac(i, around), v = frac(j, n);
+        const double phi = kTwoPi * u;
+        const glm::dvec3 radial(std::cos(phi), std::sin(phi), 0.0);
+        const glm::dvec3 p = kRadius * radial + glm::dvec3(0, 0, v - 0.5);
+        return Sample{p, radial, {-std::sin(phi), std::cos(phi), 0.0}, {0, 0, 1}, {u, v}};
+    });
+    // Caps: fans around a centre vertex, planar uvs that read upright from outside.
+    for (const double side : {1.0, -1.0}) {
+        const auto centre = static_cast<std::uint32_t>(mesh.vertices.size());
+        const glm::dvec3 normal(0, 0, side), tangent(1, 0, 0), bitangent(0, side, 0);
+        const auto capSample = [&](const glm::dvec3& p) {
+            return toVertex(Sample{p, normal, tangent, bitangent, {p.x + 0.5, 0.5 + side * p.y}});
+        };
+        mesh.vertices.push_back(capSample({0, 0, 0.5 * side}));
+        for (int i = 0; i < around; ++i) {
+            const double phi = kTwoPi * frac(i, around);
+            mesh.vertices.push_back(
+                capSample({kRadius * std::cos(phi), kRadius * std::sin(phi), 0.5 * side}));
+        }
+        for (int i = 0; i < around; ++i) {
+            const std::uint32_t a = centre + 1 + static_cast<std::uint32_t>(i);
+            const std::uint32_t b = centre + 1 + static_cast<std::uint32_t>((i + 1) % around);
+            // Counter-clockwise about +z for the top, clockwise (so counter-clockwise from below) for the
+            // bottom.
+            if (side > 0.0) {
+                mesh.indices.insert(mesh.indices.end(), {centre, a, b});
+            } else {
+                mesh.indices.insert(mesh.indices.end(), {centre, b, a});
+            }
+        }
+    }
+    return mesh;
+}
+
+Mesh makePlane(int n) {
+    Mesh mesh;
+    appendGrid(mesh, n, n, [&](int i, int j) {
+        const double u = frac(i, n), v = frac(j, n);
+        return Sample{{2.0 * u - 1.0, 2.0 * v - 1.0, 0.0}, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {u, v}};
+    });
+    return mesh;
+}
+
+// CONVENTIONS §7, written out literally: no arithmetic that could round.
+Mesh makeQuad() {
+    Mesh mesh;
+    const glm::vec4 tangent(1.0f, 0.0f, 0.0f, 1.0f);
+    const glm::vec3 normal(0.0f, 0.0f, 1.0f);
+    mesh.vertices = {
+        {{0.0f, 0.0f, 0.0f}, normal, {0.0f, 0.0f}, tangent},
+        {{1.0f, 0.0f, 0.0f}, normal, {1.0f, 0.0f}, tangent},
+        {{1.0f, 1.0f, 0.0f}, normal, {1.0f, 1.0f}, tangent},
+        {{0.0f, 1.0f, 0.0f}, normal, {0.0f, 1.0f}, tangent},
+    };
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    return mesh;
+}
+
+}  // namespace
+
+std::vector<std::string> builtinMeshList() {
+    return {"teapot", "cube", "sphere", "torus", "cylinder", "plane", "quad"};
+}
+
+Mesh makeBuiltinMesh(const std::string& name, const BuiltinMeshParams& params) {
+    const int n = params.tessellation;
+    if (n < 1 || n > kMaxTessellation) {
+        throw Error(ErrorKind::InvalidInput, "built-in mesh '" + name + "': tessellation " +
+                                                 std::to_string(n) + " is outside [1, " +
+                                                 std::to_string(kMaxTessellation) + "]");
+    }
+    Mesh mesh;
+    if (name == "teapot") {
+        mesh = makeTeapot(n);
+    } else if (name == "cube") {
+        mesh = makeCube(n);
+    } else if (name == "sphere") {
+        mesh = makeSphere(n);
+    } else if (name == "torus") {
+        mesh = makeTorus(n);
+    } else if (name == "cylinder") {
+        mesh = makeCylinder(n);
+    } else if (name == "plane") {
+        mesh = makePlane(n);
+    } else if (name == "quad") {
+        mesh = makeQuad();
+    } else {
+        std::string known;
+        for (const std::string& k : builtinMeshList()) known += (known.empty() ? "" : ", ") + k;
+        throw Error(ErrorKind::InvalidInput, "unknown built-in mesh '" + name + "' (known: " + known + ")");
+    }
+    mesh.name = name;
+    return mesh;
+}
+
+}  // namespace strata

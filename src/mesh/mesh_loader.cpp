@@ -1,0 +1,474 @@
+#include "strata/mesh/mesh_loader.h"
+
+#include "strata/core/error.h"
+#include "strata/mesh/tangent_space.h"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+
+#include <tiny_gltf.h>
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <set>
+#include <tuple>
+
+namespace strata {
+namespace {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] void invalid(const fs::path& path, const std::string& what) {
+    throw Error(ErrorKind::InvalidInput, path.string() + ": " + what);
+}
+
+[[noreturn]] void noTexCoords(const fs::path& path) {
+    invalid(path, "has no texture coordinates; relief mapping needs them");
+}
+
+// What a vertex brought from the file (kept per vertex: glTF primitives differ).
+struct VertexSource {
+    bool normal = false;
+    bool tangent = false;
+};
+
+struct RawMesh {
+    Mesh mesh;
+    std::vector<VertexSource> source;  // one per vertex
+};
+
+void requireFinite(const fs::path& path, const std::vector<float>& values, const char* what) {
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        if (!std::isfinite(values[i])) {
+            invalid(path, std::string("non-finite ") + what + " value (" + formatNumber(values[i]) +
+                              ") at element " + std::to_string(i));
+        }
+    }
+}
+
+// --- OBJ ----------------------------------------------------------------------------------------------
+
+RawMesh readObj(const fs::path& path) {
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = path.parent_path().string();
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromFile(path.string(), config)) {
+        std::string message = reader.Error();
+        while (!message.empty() && std::isspace(static_cast<unsigned char>(message.back())))
+            message.pop_back();
+        invalid(path, "cannot parse OBJ: " + (message.empty() ? std::string("unknown error") : message));
+    }
+    const tinyobj::attrib_t& attrib = reader.GetAttrib();
+    requireFinite(path, attrib.vertices, "position");
+    requireFinite(path, attrib.normals, "normal");
+    requireFinite(path, attrib.texcoords, "texture coordinate");
+    const auto positionCount = static_cast<int>(attrib.vertices.size() / 3);
+    const auto normalCount = static_cast<int>(attrib.normals.size() / 3);
+    const auto uvCount = static_cast<int>(attrib.texcoords.size() / 2);
+
+    RawMesh raw;
+    raw.mesh.name = path.string();
+    bool allNormals = true;
+    std::map<std::tuple<int, int, int>, std::uint32_t> unwelded;
+    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+        std::size_t offset = 0;
+        for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
+            const std::size_t corners = shape.mesh.num_face_vertices[f];
+            if (corners != 3)
+                invalid(path, "face with " + std::to_string(corners) + " corners after triangulation");
+            for (std::size_t k = 0; k < 3; ++k) {
+                const tinyobj::index_t& index = shape.mesh.indices[offset + k];
+                if (index.texcoord_index < 0) noTexCoords(path);
+                if (index.vertex_index < 0 || index.vertex_index >= positionCount ||
+                    index.texcoord_index >= uvCount || index.normal_index >= normalCount) {
+                    invalid(path, "face " + std::to_string(f) + " of '" + shape.name +
+                                      "' has an index out of range");
+                }
+                if (index.normal_index < 0) allNormals = false;
+                const auto key =
+                    std::make_tuple(index.vertex_index, index.texcoord_index, index.normal_index);
+                auto [it, inserted] =
+                    unwelded.emplace(key, static_cast<std::uint32_t>(raw.mesh.vertices.size()));
+                if (inserted) {
+                    MeshVertex v;
+                    const auto vi = static_cast<std::size_t>(index.vertex_index);
+                    const auto ti = static_cast<std::size_t>(index.texcoord_index);
+                    v.position = {attrib.vertices[3 * vi], attrib.vertices[3 * vi + 1],
+                                  attrib.vertices[3 * vi + 2]};
+                    v.uv = {attrib.texcoords[2 * ti], attrib.texcoords[2 * ti + 1]};
+                    if (index.normal_index >= 0) {
+                        const auto ni = static_cast<std::size_t>(index.normal_index);
+                        v.normal = {attrib.normals[3 * ni], attrib.normals[3 * ni + 1],
+                                    attrib.normals[3 * ni + 2]};
+                    }
+                    raw.mesh.vertices.push_back(v);
+                }
+                raw.mesh.indices.push_back(it->second);
+            }
+            offset += corners;
+        }
+    }
+    // A file that mixes faces with and without normals gets computed normals everywhere: one rule per file.
+    raw.source.assign(raw.mesh.vertices.size(), VertexSource{allNormals, false});
+    return raw;
+}
+
+// --- glTF ---------------------------------------------------------------------------------------------
+
+// Images are not needed for geometry: accept them without decoding.
+bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
+               void*) {
+    return true;
+}
+
+// Reads accessor `index` as `components` floats per element (normalised integers mapped as glTF says).
+std::vector<float> readAccessor(const fs::path& path, const tinygltf::Model& model, int index, int components,
+                                const char* what) {
+    if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size()) {
+        invalid(path, std::string(what) + " accessor " + std::to_string(index) + " does not exist");
+    }
+    const tinygltf::Accessor& accessor = model.accessors[static_cast<std::size_t>(index)];
+    if (accessor.sparse.isSparse) {
+        throw Error(ErrorKind::Unsupported,
+                    path.string() + ": sparse accessors (" + what + ") are not supported");
+    }
+    if (tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(accessor.type)) != components) {
+        invalid(path, std::string(what) + " accessor " + std::to_string(index) + " has the wrong type");
+    }
+    const std::size_t count = accessor.count;
+    std::vector<float> out(count * static_cast<std::size_t>(components), 0.0f);
+    if (accessor.bufferView < 0) return out;  // all zeros, as the spec says
+    const tinygltf::BufferView& view = model.bufferViews.at(static_cast<std::size_t>(accessor.bufferView));
+    const tinygltf::Buffer& buffer = model.buffers.at(static_cast<std::size_t>(view.buffer));
+    const int componentSize =
+        tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(accessor.componentType));
+    if (componentSize <= 0) invalid(path, std::string(what) + " accessor has an invalid component type");
+    const std::size_t elementSize = static_cast<std::size_t>(componentSize * components);
+    const std::size_t stride = view.byteStride ? view.byteStride : elementSize;
+    const std::size_t start = view.byteOffset + accessor.byteOffset;
+    if (count > 0 && (start + stride * (count - 1) + elementSize > buffer.data.size() ||
+                      accessor.byteOffset + stride * (count - 1) + elementSize > view.byteLength)) {
+        invalid(path, std::string(what) + " accessor " + std::to_string(index) + " runs past its buffer");
+    }
+    for (std::size_t e = 0; e < count; ++e) {
+        const unsigned char* element = buffer.data.data() + start + e * stride;
+        for (int c = 0; c < components; ++c) {
+            const unsigned char* p = element + c * componentSize;
+            float value = 0.0f;
+            switch (accessor.componentType) {
+                case TINYGLTF_COMPONENT_TYPE_FLOAT:
+                    std::memcpy(&value, p, 4);
+                    break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                    value = static_cast<float>(*p) / 255.0f;
+                    break;
+                case TINYGLTF_COMPONENT_TYPE_BYTE:
+                    value = std::max(static_cast<float>(static_cast<signed char>(*p)) / 127.0f, -1.0f);
+                    break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                    std::uint16_t v;
+                    std::memcpy(&v, p, 2);
+                    value = static_cast<float>(v) / 65535.0f;
+                    break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_SHORT: {
+                    std::int16_t v;
+                    std::memcpy(&v, p, 2);
+                    value = std::max(static_cast<float>(v) / 32767.0f, -1.0f);
+                    break;
+                }
+                default:
+                    throw Error(ErrorKind::Unsupported, path.string() + ": " + what +
+                                                            " accessor has an unsupported component type " +
+                                                            std::to_string(accessor.componentType));
+            }
+            out[e * static_cast<std::size_t>(components) + static_cast<std::size_t>(c)] = value;
+        }
+    }
+    requireFinite(path, out, what);
+    return out;
+}
+
+std::vector<std::uint32_t> readIndices(const fs::path& path, const tinygltf::Model& model, int index) {
+    const tinygltf::Accessor& accessor = model.accessors.at(static_cast<std::size_t>(index));
+    if (accessor.type != TINYGLTF_TYPE_SCALAR || accessor.bufferView < 0 || accessor.sparse.isSparse) {
+        invalid(path, "index accessor " + std::to_string(index) + " is not a plain scalar accessor");
+    }
+    const tinygltf::BufferView& view = model.bufferViews.at(static_cast<std::size_t>(accessor.bufferView));
+    const tinygltf::Buffer& buffer = model.buffers.at(static_cast<std::size_t>(view.buffer));
+    const int size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(accessor.componentType));
+    if (size != 1 && size != 2 && size != 4) invalid(path, "index accessor has an invalid component type");
+    const std::size_t stride = view.byteStride ? view.byteStride : static_cast<std::size_t>(size);
+    const std::size_t start = view.byteOffset + accessor.byteOffset;
+    if (accessor.count > 0 &&
+        start + stride * (accessor.count - 1) + static_cast<std::size_t>(size) > buffer.data.size()) {
+        invalid(path, "index accessor " + std::to_string(index) + " runs past its buffer");
+    }
+    std::vector<std::uint32_t> out(accessor.count);
+    for (std::size_t e = 0; e < accessor.count; ++e) {
+        const unsigned char* p = buffer.data.data() + start + e * stride;
+        if (size == 1) {
+            out[e] = *p;
+        } else if (size == 2) {
+            std::uint16_t v;
+            std::memcpy(&v, p, 2);
+            out[e] = v;
+        } else {
+            std::memcpy(&out[e], p, 4);
+        }
+    }
+    return out;
+}
+
+glm::dmat4 localMatrix(const tinygltf::Node& node) {
+    if (node.matrix.size() == 16) return glm::make_mat4(node.matrix.data());  // column-major, as glTF
+    glm::dmat4 m(1.0);
+    if (node.translation.size() == 3) m = glm::translate(m, glm::make_vec3(node.translation.data()));
+    if (node.rotation.size() == 4) {
+        const glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1],
+                           node.rotation[2]);  // w, x, y, z
+        m *= glm::mat4_cast(q);
+    }
+    if (node.scale.size() == 3) m = glm::scale(m, glm::make_vec3(node.scale.data()));
+    return m;
+}
+
+void appendPrimitive(const fs::path& path, const tinygltf::Model& model, const tinygltf::Primitive& primitive,
+                     const glm::dmat4& world, RawMesh& raw, MeshRepairReport& report) {
+    const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        ++report.skippedPrimitives;
+        return;
+    }
+    const auto attribute = [&](const char* name) {
+        const auto it = primitive.attributes.find(name);
+        return it == primitive.attributes.end() ? -1 : it->second;
+    };
+    if (attribute("POSITION") < 0) invalid(path, "a primitive has no POSITION");
+    if (attribute("TEXCOORD_0") < 0) noTexCoords(path);
+    const std::vector<float> positions = readAccessor(path, model, attribute("POSITION"), 3, "POSITION");
+    const std::vector<float> uvs = readAccessor(path, model, attribute("TEXCOORD_0"), 2, "TEXCOORD_0");
+    const bool hasNormals = attribute("NORMAL") >= 0;
+    const bool hasTangents = attribute("TANGENT") >= 0;
+    const std::vector<float> normals =
+        hasNormals ? readAccessor(path, model, attribute("NORMAL"), 3, "NORMAL") : std::vector<float>();
+    const std::vector<float> tangents =
+        hasTangents ? readAccessor(path, model, attribute("TANGENT"), 4, "TANGENT") : std::vector<float>();
+    const std::size_t count = positions.size() / 3;
+    if (uvs.size() / 2 != count || (hasNormals && normals.size() / 3 != count) ||
+        (hasTangents && tangents.size() / 4 != count)) {
+        invalid(path, "a primitive's attributes have different counts");
+    }
+
+    const glm::dmat3 linear(world);
+    const glm::dmat3 normalMatrix = glm::inverseTranspose(linear);
+    const bool mirrored = glm::determinant(linear) < 0.0;
+    const auto base = static_cast<std::uint32_t>(raw.mesh.vertices.size());
+    for (std::size_t i = 0; i < count; ++i) {
+        MeshVertex v;
+        v.position =
+            glm::vec3(world * glm::dvec4(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2], 1.0));
+        v.uv = {uvs[2 * i], 1.0f - uvs[2 * i + 1]};  // glTF's v runs down the image, Strata's up
+        if (hasNormals) {
+            const glm::dvec3 n =
+                normalMatrix * glm::dvec3(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
+            const double len = glm::length(n);
+            v.normal = len > 0.0 ? glm::vec3(n / len) : glm::vec3(0.0f);  // zero: repaired later
+        }
+        if (hasTangents) {
+            const glm::dvec3 t =
+                linear * glm::dvec3(tangents[4 * i], tangents[4 * i + 1], tangents[4 * i + 2]);
+            const float w = (tangents[4 * i + 3] < 0.0f) != mirrored ? -1.0f : 1.0f;
+            v.tangent = glm::vec4(glm::vec3(t), w);
+        }
+        raw.mesh.vertices.push_back(v);
+    }
+    raw.source.resize(raw.mesh.vertices.size(), VertexSource{hasNormals, hasTangents});
+
+    std::vector<std::uint32_t> indices;
+    if (primitive.indices >= 0) {
+        indices = readIndices(path, model, primitive.indices);
+    } else {
+        indices.resize(count);
+        for (std::size_t i = 0; i < count; ++i) indices[i] = static_cast<std::uint32_t>(i);
+    }
+    for (std::uint32_t index : indices) {
+        if (index >= count)
+            invalid(path, "index " + std::to_string(index) + " is out of range in a primitive");
+    }
+    std::vector<std::uint32_t> triangles;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        triangles.assign(indices.begin(), indices.end() - static_cast<std::ptrdiff_t>(indices.size() % 3));
+    } else {
+        for (std::size_t k = 2; k < indices.size(); ++k) {
+            if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+                triangles.insert(triangles.end(), {indices[0], indices[k - 1], indices[k]});
+            } else if (k % 2 == 0) {
+                triangles.insert(triangles.end(), {indices[k - 2], indices[k - 1], indices[k]});
+            } else {
+                triangles.insert(triangles.end(), {indices[k - 1], indices[k - 2], indices[k]});
+            }
+        }
+    }
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        // A mirroring transform turns counter-clockwise into clockwise: swap two corners back.
+        raw.mesh.indices.push_back(base + triangles[t]);
+        raw.mesh.indices.push_back(base + triangles[t + (mirrored ? 2 : 1)]);
+        raw.mesh.indices.push_back(base + triangles[t + (mirrored ? 1 : 2)]);
+    }
+}
+
+void appendNode(const fs::path& path, const tinygltf::Model& model, int nodeIndex, const glm::dmat4& parent,
+                std::set<int>& visiting, RawMesh& raw, MeshRepairReport& report) {
+    if (nodeIndex < 0 || static_cast<std::size_t>(nodeIndex) >= model.nodes.size()) {
+        invalid(path, "node " + std::to_string(nodeIndex) + " does not exist");
+    }
+    if (!visiting.insert(nodeIndex).second)
+        invalid(path, "node " + std::to_string(nodeIndex) + " is its own ancestor");
+    const tinygltf::Node& node = model.nodes[static_cast<std::size_t>(nodeIndex)];
+    const glm::dmat4 world = parent * localMatrix(node);
+    if (node.mesh >= 0) {
+        for (const tinygltf::Primitive& primitive :
+             model.meshes.at(static_cast<std::size_t>(node.mesh)).primitives) {
+            appendPrimitive(path, model, primitive, world, raw, report);
+        }
+    }
+    for (int child : node.children) appendNode(path, model, child, world, visiting, raw, report);
+    visiting.erase(nodeIndex);
+}
+
+RawMesh readGltf(const fs::path& path, bool binary, MeshRepairReport& report) {
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(&skipImage, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path.string())
+                           : loader.LoadASCIIFromFile(&model, &err, &warn, path.string());
+    if (!ok) {
+        while (!err.empty() && std::isspace(static_cast<unsigned char>(err.back()))) err.pop_back();
+        invalid(path, "cannot parse glTF: " + (err.empty() ? std::string("unknown error") : err));
+    }
+    RawMesh raw;
+    raw.mesh.name = path.string();
+    if (model.scenes.empty()) {
+        for (const tinygltf::Mesh& mesh : model.meshes) {
+            for (const tinygltf::Primitive& primitive : mesh.primitives) {
+                appendPrimitive(path, model, primitive, glm::dmat4(1.0), raw, report);
+            }
+        }
+    } else {
+        const int sceneIndex = model.defaultScene >= 0 ? model.defaultScene : 0;
+        if (static_cast<std::size_t>(sceneIndex) >= model.scenes.size()) {
+            invalid(path, "default scene " + std::to_string(sceneIndex) + " does not exist");
+        }
+        std::set<int> visiting;
+        for (int node : model.scenes[static_cast<std::size_t>(sceneIndex)].nodes) {
+            appendNode(path, model, node, glm::dmat4(1.0), visiting, raw, report);
+        }
+    }
+    return raw;
+}
+
+std::string lowerExtension(const fs::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext;
+}
+
+}  // namespace
+
+Mesh loadMesh(const fs::path& path, const MeshLoadOptions& options) {
+    MeshRepairReport report;
+    return loadMesh(path, options, report);
+}
+
+Mesh loadMesh(const fs::path& path, const MeshLoadOptions& options, MeshRepairReport& report) {
+    report = {};
+    const std::string ext = lowerExtension(path);
+    if (ext != ".obj" && ext != ".gltf" && ext != ".glb") {
+        throw Error(ErrorKind::Unsupported, path.string() + ": unsupported mesh format '" + ext +
+                                                "' (Strata reads .obj, .gltf and .glb)");
+    }
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw Error(ErrorKind::Io, path.string() + ": no such file");
+    if (!fs::is_regular_file(path, ec) || !std::ifstream(path, std::ios::binary).good()) {
+        throw Error(ErrorKind::Io, path.string() + ": cannot be read");
+    }
+
+    RawMesh raw = ext == ".obj" ? readObj(path) : readGltf(path, ext == ".glb", report);
+    const MeshRepairReport skipped = report;
+    std::vector<std::uint32_t> remap;
+    report = repairMesh(raw.mesh, &remap);
+    report.skippedPrimitives = skipped.skippedPrimitives;
+    std::vector<VertexSource> source(raw.mesh.vertices.size());
+    for (std::size_t i = 0; i < remap.size(); ++i) {
+        if (remap[i] != kRemovedVertex) source[remap[i]] = raw.source[i];
+    }
+    Mesh& mesh = raw.mesh;
+
+    // Normals: computed where the file has none (or the caller says so), repaired where they are zero.
+    const bool allNormals =
+        std::all_of(source.begin(), source.end(), [](const VertexSource& s) { return s.normal; });
+    if (!allNormals || options.recomputeNormals) {
+        Mesh smooth = mesh;
+        computeSmoothNormals(smooth);
+        for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+            if (!source[i].normal || options.recomputeNormals)
+                mesh.vertices[i].normal = smooth.vertices[i].normal;
+        }
+        report.normalsComputed = true;
+    }
+    std::vector<std::size_t> zeroNormals;
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+        const float len = glm::length(mesh.vertices[i].normal);
+        if (len > 0.0f) {
+            mesh.vertices[i].normal /= len;
+        } else {
+            zeroNormals.push_back(i);
+        }
+    }
+    if (!zeroNormals.empty()) {
+        Mesh smooth = mesh;
+        computeSmoothNormals(smooth);
+        for (std::size_t i : zeroNormals) mesh.vertices[i].normal = smooth.vertices[i].normal;
+        report.normalsRepaired = zeroNormals.size();
+    }
+
+    // Tangents: the file's where every vertex has a usable one, else all computed (one rule per mesh).
+    bool useFileTangents =
+        !options.recomputeTangents &&
+        std::all_of(source.begin(), source.end(), [](const VertexSource& s) { return s.tangent; });
+    if (useFileTangents) {
+        for (MeshVertex& v : mesh.vertices) {
+            const glm::vec3 t = glm::vec3(v.tangent) - v.normal * glm::dot(v.normal, glm::vec3(v.tangent));
+            const float len = glm::length(t);
+            // A tangent (nearly) parallel to the normal says nothing about the texture direction.
+            if (!(len > 1e-4f)) {
+                useFileTangents = false;
+                break;
+            }
+            v.tangent = glm::vec4(t / len, v.tangent.w);
+        }
+    }
+    if (!useFileTangents) {
+        report.tangentsRepaired = computeTangents(mesh);
+        report.tangentsComputed = true;
+    }
+    return mesh;
+}
+
+}  // namespace strata
