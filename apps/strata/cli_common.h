@@ -17,6 +17,8 @@ void addImportCommand(CLI::App& app);
 void addComposeCommand(CLI::App& app);
 void addAoCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
+void addRenderCommand(CLI::App& app);
+void addCompareCommand(CLI::App& app);
 
 // A progress line on stderr, only when stderr is a terminal (pipes and CI logs stay clean).
 void progress(const std::string& message);

@@ -13,7 +13,9 @@
 #include <new>
 
 int main(int argc, char** argv) {
-    CLI::App app{"strata: relief textures, meta-relief composition and texture-space ambient occlusion"};
+    CLI::App app{
+        "strata: relief textures, meta-relief composition, texture-space ambient occlusion and relief "
+        "rendering"};
     app.set_version_flag("--version", std::string("strata ") + strata::kVersion);
     app.require_subcommand(1);
     app.footer(
@@ -23,6 +25,8 @@ int main(int argc, char** argv) {
     strata::cli::addComposeCommand(app);
     strata::cli::addAoCommand(app);
     strata::cli::addInfoCommand(app);
+    strata::cli::addRenderCommand(app);
+    strata::cli::addCompareCommand(app);
 
     try {
         app.parse(argc, argv);

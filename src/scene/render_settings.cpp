@@ -72,9 +72,9 @@ AoRescale parseAoRescale(const std::string& text) {
 }
 
 int adaptiveLinearSteps(int linearSteps, double cosTheta) {
-    const double c = std::clamp(std::abs(cosTheta), 0.0, 1.0);
-    // mix(2N, N, c), rounded half up like GLSL's floor(x + 0.5).
-    return static_cast<int>(std::floor(2.0 * linearSteps + (linearSteps - 2.0 * linearSteps) * c + 0.5));
+    // N / max(|cos|, 1/4), rounded half up like GLSL's floor(x + 0.5).
+    const double c = std::clamp(std::abs(cosTheta), 0.25, 1.0);
+    return static_cast<int>(std::floor(linearSteps / c + 0.5));
 }
 
 namespace {

@@ -172,16 +172,34 @@ Camera frameCamera(const Bounds& bounds, double aspect, double fovYDegrees) {
     const double radius = std::max(0.5 * glm::length(hi - lo), 1e-6);
     // From the front (-y), a little to the right (+x) and above: a three-quarter view in which +x (the
     // teapot's spout) points right.
-    const glm::dvec3 direction = glm::normalize(glm::dvec3(0.55, -1.0, 0.6));
-    const double halfFovY = glm::radians(fovYDegrees) * 0.5;
-    const double halfFovX = std::atan(std::tan(halfFovY) * aspect);
-    // The bounding sphere fits in the narrower half-angle, with 5 % margin.
-    const double distance = 1.05 * radius / std::sin(std::min(halfFovX, halfFovY));
     Camera camera;
     camera.target = centre;
-    camera.eye = centre + distance * direction;
     camera.up = {0.0, 0.0, 1.0};
     camera.fovYDegrees = fovYDegrees;
+    const glm::dvec3 direction = glm::normalize(glm::dvec3(0.55, -1.0, 0.6));
+    const double tanY = std::tan(glm::radians(fovYDegrees) * 0.5);
+    const double tanX = tanY * aspect;
+    // The nearest distance at which all eight corners of the box lie within 97 % of the picture's half-
+    // extents (bisection: the projected extent shrinks monotonically with distance beyond the box).
+    const auto fits = [&](double distance) {
+        camera.eye = centre + distance * direction;
+        const CameraFrame frame = cameraFrame(camera);
+        for (int corner = 0; corner < 8; ++corner) {
+            const glm::dvec3 p(corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z);
+            const glm::dvec3 d = p - camera.eye;
+            const double z = glm::dot(d, frame.forward);
+            if (z <= 0.0 || std::abs(glm::dot(d, frame.right)) > 0.97 * tanX * z ||
+                std::abs(glm::dot(d, frame.up)) > 0.97 * tanY * z)
+                return false;
+        }
+        return true;
+    };
+    double near = radius, far = radius / std::sin(std::atan(0.97 * std::min(tanX, tanY))) + radius;
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (near + far);
+        (fits(mid) ? far : near) = mid;
+    }
+    camera.eye = centre + far * direction;
     return camera;
 }
 

@@ -46,7 +46,7 @@ TEST(Camera, RaysAndMatricesAgree) {
     const int width = 160, height = 90;
     const glm::dmat4 clip =
         projectionMatrix(camera, static_cast<double>(width) / height, 0.05, 20.0) * viewMatrix(camera);
-    for (const auto [px, py] :
+    for (const auto& [px, py] :
          {std::pair{0.5, 0.5}, {159.5, 0.5}, {80.0, 45.0}, {3.5, 88.5}, {120.25, 10.75}}) {
         const glm::dvec3 point = camera.eye + 2.5 * pixelRayDirection(camera, width, height, px, py);
         const glm::dvec4 c = clip * glm::dvec4(point, 1.0);
@@ -79,12 +79,14 @@ TEST(Camera, BadCamerasAreRejected) {
     }
 }
 
-TEST(RenderSettings, LinearStepsGrowToTwiceAtGrazing) {
+TEST(RenderSettings, LinearStepsKeepTheStepLengthAlongTheRay) {
     EXPECT_EQ(adaptiveLinearSteps(10, 1.0), 10);
-    EXPECT_EQ(adaptiveLinearSteps(10, 0.0), 20);
-    EXPECT_EQ(adaptiveLinearSteps(10, 0.5), 15);
+    EXPECT_EQ(adaptiveLinearSteps(10, 0.5), 20);   // 60 degrees: the ray is twice as long
+    EXPECT_EQ(adaptiveLinearSteps(10, 0.0), 40);   // capped at 4 N
+    EXPECT_EQ(adaptiveLinearSteps(10, 0.2), 40);
     EXPECT_EQ(adaptiveLinearSteps(64, -1.0), 64);  // |cos|: a ray from below counts like one from above
-    EXPECT_EQ(adaptiveLinearSteps(64, std::cos(75.0 * M_PI / 180.0)), 111);  // 128 - 64 * 0.2588 = 111.4
+    EXPECT_EQ(adaptiveLinearSteps(64, std::cos(45.0 * M_PI / 180.0)), 91);  // 64 * sqrt(2) = 90.5
+    EXPECT_EQ(adaptiveLinearSteps(64, std::cos(75.0 * M_PI / 180.0)), 247);  // 64 / 0.2588 = 247.3
 }
 
 TEST(RenderSettings, NamesRoundTripAndUnknownNamesAreErrors) {

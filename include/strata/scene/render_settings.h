@@ -37,9 +37,9 @@ enum class AoRescale {
 
 struct ReliefSettings {
     Technique technique = Technique::Relief;
-    // Linear search steps at normal incidence; the count grows linearly with the view angle to twice this
-    // at grazing incidence, n = round(mix(2 N, N, |cos theta|)) (theta from the normal). [1, 1024], the
-    // paper's shader uses 10.
+    // Linear search steps at normal incidence; the count grows with the view angle as
+    // n = round(N / max(|cos theta|, 1/4)) (theta from the normal), which keeps the step length along the
+    // ray constant, up to 4 N beyond 75.5 degrees. [1, 1024], the paper's shader uses 10.
     int linearSteps = 10;
     // Binary refinement steps after the linear search. [0, 32], the paper's shader uses 5.
     int binarySteps = 5;
@@ -65,8 +65,10 @@ struct Lighting {
 struct PictureSettings {
     int width = 1280;  // pixels, [1, 8192]
     int height = 720;  // pixels, [1, 8192]
-    int samples = 4;   // MSAA samples per pixel for `shaded`; 1 = none. Debug outputs
-                       // always use 1 (CONVENTIONS §7: no antialiasing).
+    // Antialiasing samples per pixel for `shaded`, taken as a k x k supersampling grid, k =
+    // round(sqrt(samples)) (4 = 2 x 2, 9 = 3 x 3, 16 = 4 x 4), box-filtered in linear colour; 1 = none. [1,
+    // 16], default 4. Debug outputs always use 1 (CONVENTIONS §7: no antialiasing).
+    int samples = 4;
     RenderOutput output = RenderOutput::Shaded;
     glm::dvec3 background{0.16, 0.17, 0.19};  // sRGB-encoded colour of empty pixels (shaded only)
 };

@@ -1,0 +1,210 @@
+#include "render_common.h"
+
+#include "cli_common.h"
+
+#include "strata/compose/material.h"
+#include "strata/core/error.h"
+#include "strata/gl/context.h"
+#include "strata/gl/relief_renderer.h"
+#include "strata/mesh/mesh.h"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace strata::cli {
+
+namespace {
+
+glm::dvec3 parseVec3(const std::string& text, const char* flag) {
+    glm::dvec3 v;
+    std::istringstream in(text);
+    char comma1 = 0, comma2 = 0;
+    if (!(in >> v.x >> comma1 >> v.y >> comma2 >> v.z) || comma1 != ',' || comma2 != ',' || !in.eof() ||
+        !std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        throw Error(ErrorKind::Usage,
+                    std::string(flag) + ": expected X,Y,Z (three numbers), got '" + text + "'");
+    return v;
+}
+
+bool parseOnOff(const std::string& text, const char* flag) {
+    if (text == "on") return true;
+    if (text == "off") return false;
+    throw Error(ErrorKind::Usage, std::string(flag) + ": expected on or off, got '" + text + "'");
+}
+
+std::string describe(const Scene& scene, double depthScale) {
+    std::ostringstream out;
+    const ReliefSettings& r = scene.relief;
+    out << fs::path(scene.mesh).filename().string() << ", " << toString(r.technique);
+    if (r.technique == Technique::Relief) out << " " << r.linearSteps << "+" << r.binarySteps;
+    out << ", S = " << depthScale << ", tiling " << r.tiling << ", " << scene.picture.width << "x"
+        << scene.picture.height;
+    if (scene.picture.output != RenderOutput::Shaded)
+        out << ", " << toString(scene.picture.output);
+    else if (scene.picture.samples > 1)
+        out << ", " << scene.picture.samples << " samples (supersampled)";
+    return out.str();
+}
+
+}  // namespace
+
+void addSceneFlags(CLI::App& command, SceneFlags& f) {
+    command.add_option("scene", f.sceneFile, "Scene file (JSON, docs/scenes.md); flags override its keys")
+        ->check(CLI::ExistingFile);
+    command.add_option("--mesh", f.mesh,
+                       "Built-in mesh (teapot, cube, sphere, torus, cylinder, plane, quad) or "
+                       "a mesh file (.obj, .gltf, .glb)");
+    command.add_option("--tessellation", f.tessellation, "Tessellation of a built-in mesh")
+        ->check(CLI::Range(1, 256));
+    command.add_option("--material", f.material,
+                       "Material JSON, texture set directory, 'shaped-fabric' or a built-in pattern name");
+    command
+        .add_option("--depth-map", f.depthMap,
+                    "Render this depth map (d in [0, 1], 0 = top) instead of a material: the verification "
+                    "scene's input (CONVENTIONS §7)")
+        ->check(CLI::ExistingFile);
+    command.add_option("--technique", f.technique, "texture, normal, parallax or relief")
+        ->check(CLI::IsMember({"texture", "normal", "parallax", "relief"}));
+    command
+        .add_option("--linear-steps", f.linearSteps,
+                    "Relief: linear search steps at normal incidence (paper: 10)")
+        ->check(CLI::Range(1, 1024));
+    command.add_option("--binary-steps", f.binarySteps, "Relief: binary search steps (paper: 5)")
+        ->check(CLI::Range(0, 32));
+    command.add_option("--depth-scale", f.depthScale,
+                       "Depth of d = 1 in tile widths (default: the material's)");
+    command.add_option("--tiling", f.tiling, "Tiles per unit of mesh uv");
+    command.add_option("--shadows", f.shadows, "Self-shadowing: on or off")
+        ->check(CLI::IsMember({"on", "off"}));
+    command.add_option("--depth-correction", f.depthCorrection, "Write the relief's depth: on or off")
+        ->check(CLI::IsMember({"on", "off"}));
+    command.add_option("--ao", f.ao, "Texture-space AO on the ambient term: on or off")
+        ->check(CLI::IsMember({"on", "off"}));
+    command.add_option("--ao-rescale", f.aoRescale, "AO at another depth scale: exact, paper (Eq. 6) or off")
+        ->check(CLI::IsMember({"off", "paper", "exact"}));
+    command.add_option("--eye", f.eye, "Camera position X,Y,Z (default: framed from the mesh's bounds)");
+    command.add_option("--target", f.target, "Camera target X,Y,Z");
+    command.add_option("--up", f.up, "Camera up X,Y,Z (default 0,0,1)");
+    command.add_option("--fov", f.fov, "Vertical field of view in degrees");
+    command.add_option("--size", f.size, "Picture size WxH in pixels (default 1280x720)");
+    command.add_option("--samples", f.samples, "MSAA samples for shaded pictures (1 = none)")
+        ->check(CLI::Range(1, 16));
+    command.add_option("--light", f.light, "Point light position X,Y,Z");
+    command
+        .add_option("--output", f.output, "What a pixel holds: shaded, uv, shadow or depth (CONVENTIONS §7)")
+        ->check(CLI::IsMember({"shaded", "uv", "shadow", "depth"}));
+}
+
+Scene buildScene(const SceneFlags& f) {
+    Scene scene = f.sceneFile.empty() ? Scene{} : readScene(f.sceneFile);
+    if (!f.mesh.empty()) scene.mesh = f.mesh;
+    if (f.tessellation) scene.tessellation = *f.tessellation;
+    if (!f.material.empty()) scene.material = f.material;
+    if (!f.depthMap.empty()) scene.depthMap = f.depthMap;
+    ReliefSettings& r = scene.relief;
+    if (!f.technique.empty()) r.technique = parseTechnique(f.technique);
+    if (f.linearSteps) r.linearSteps = *f.linearSteps;
+    if (f.binarySteps) r.binarySteps = *f.binarySteps;
+    if (f.depthScale) r.depthScale = *f.depthScale;
+    if (f.tiling) r.tiling = *f.tiling;
+    if (!f.shadows.empty()) r.selfShadow = parseOnOff(f.shadows, "--shadows");
+    if (!f.depthCorrection.empty()) r.depthCorrection = parseOnOff(f.depthCorrection, "--depth-correction");
+    if (!f.ao.empty()) r.ao = parseOnOff(f.ao, "--ao");
+    if (!f.aoRescale.empty()) r.aoRescale = parseAoRescale(f.aoRescale);
+
+    const bool cameraFlags = !f.eye.empty() || !f.target.empty() || !f.up.empty() || f.fov;
+    if (cameraFlags) {
+        Camera camera = scene.camera.value_or(Camera{});
+        if (!scene.camera && (f.eye.empty() || f.target.empty()))
+            throw Error(ErrorKind::Usage, "--eye and --target go together (or come from the scene file)");
+        if (!f.eye.empty()) camera.eye = parseVec3(f.eye, "--eye");
+        if (!f.target.empty()) camera.target = parseVec3(f.target, "--target");
+        if (!f.up.empty()) camera.up = parseVec3(f.up, "--up");
+        if (f.fov) camera.fovYDegrees = *f.fov;
+        scene.camera = camera;
+    }
+    if (scene.camera) validateCamera(*scene.camera, "camera");
+
+    PictureSettings& p = scene.picture;
+    if (!f.size.empty()) {
+        int w = 0, h = 0;
+        char x = 0;
+        std::istringstream in(f.size);
+        if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || !in.eof())
+            throw Error(ErrorKind::Usage, "--size: expected WxH (e.g. 1280x720), got '" + f.size + "'");
+        p.width = w;
+        p.height = h;
+    }
+    if (!f.depthMap.empty() && !f.samples) p.samples = 1;
+    if (f.samples) p.samples = *f.samples;
+    if (!f.light.empty()) scene.lighting.lightPosition = parseVec3(f.light, "--light");
+    if (!f.output.empty()) p.output = parseRenderOutput(f.output);
+    validate(r);
+    validate(scene.lighting);
+    validate(p);
+    return scene;
+}
+
+std::vector<RenderedScene> renderScene(const Scene& scene, const std::vector<Technique>& techniques) {
+    const auto start = std::chrono::steady_clock::now();
+    // The context first: without one nothing else is worth doing.
+    const auto context = gl::HeadlessContext::create();
+
+    progress("mesh " + scene.mesh);
+    const Mesh mesh = loadSceneMesh(scene);
+    std::vector<std::string> notes;
+    ReliefTexture texture = loadSceneMaterial(scene, &notes, [](const std::string& m) { progress(m); });
+    for (const auto& text : notes) note(text);
+
+    const double depthScale = renderDepthScale(scene, texture);
+    double aoDepthScale = texture.depthScale;
+    if (scene.relief.ao && !texture.ao.empty()) {
+        if (scene.relief.aoRescale == AoRescale::Exact && depthScale != texture.depthScale)
+            progress("ambient occlusion at S = " + formatNumber(depthScale) + " (exact rescale)");
+        texture.ao = aoForRender(texture, depthScale, scene.relief.aoRescale, &aoDepthScale);
+    }
+
+    gl::ReliefRenderer renderer;
+    const gl::GpuMesh gpuMesh = gl::uploadMesh(mesh);
+    const gl::GpuMaterial gpuMaterial = gl::uploadMaterial(texture, aoDepthScale);
+
+    gl::RenderRequest request;
+    request.objects.push_back({&gpuMesh, glm::dmat4(1.0), &gpuMaterial, glm::dvec3(0.8)});
+    request.relief = scene.relief;
+    request.relief.depthScale = depthScale;
+    request.lighting = scene.lighting;
+    request.picture = scene.picture;
+    request.camera = scene.camera.value_or(
+        frameCamera(meshBounds(mesh), static_cast<double>(scene.picture.width) / scene.picture.height));
+
+    std::vector<RenderedScene> results;
+    const std::vector<Technique> list = techniques.empty() ? std::vector{scene.relief.technique} : techniques;
+    for (Technique technique : list) {
+        request.relief.technique = technique;
+        Scene described = scene;
+        described.relief.technique = technique;
+        progress(std::string("rendering (") + toString(technique) + ")");
+        RenderedScene result;
+        result.image = renderer.render(request);
+        result.summary = describe(described, depthScale);
+        results.push_back(std::move(result));
+    }
+
+    std::vector<fs::path> inputs;
+    if (fs::exists(scene.mesh)) inputs.push_back(scene.mesh);
+    if (!scene.depthMap.empty()) inputs.push_back(scene.depthMap);
+    if (fs::exists(scene.material) && scene.depthMap.empty()) inputs.push_back(scene.material);
+    if (!scene.source.empty()) inputs.push_back(scene.source);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    for (RenderedScene& result : results) {
+        result.inputs = inputs;
+        result.summary +=
+            ", " + context->rendererName() + ", " + formatNumber(std::round(seconds * 10) / 10) + " s";
+    }
+    return results;
+}
+
+}  // namespace strata::cli

@@ -1,0 +1,58 @@
+// What `strata render` and `strata compare` share: the scene flags, and rendering a scene headless.
+#pragma once
+
+#include "strata/image/image.h"
+#include "strata/scene/scene.h"
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace strata::cli {
+
+// Every scene key as a flag (docs/scenes.md); a flag given overrides the scene file.
+struct SceneFlags {
+    std::filesystem::path sceneFile;
+    std::string mesh;
+    std::optional<int> tessellation;
+    std::string material;
+    std::filesystem::path depthMap;
+    std::string technique;
+    std::optional<int> linearSteps;
+    std::optional<int> binarySteps;
+    std::optional<double> depthScale;
+    std::optional<double> tiling;
+    std::string shadows;          // on | off
+    std::string depthCorrection;  // on | off
+    std::string ao;               // on | off
+    std::string aoRescale;
+    std::string eye, target, up;  // "X,Y,Z"
+    std::optional<double> fov;
+    std::string size;  // "WxH"
+    std::optional<int> samples;
+    std::string light;  // "X,Y,Z"
+    std::string output;
+};
+
+// Adds the flags to `command` (and the optional positional SCENE.json).
+void addSceneFlags(CLI::App& command, SceneFlags& flags);
+
+// The scene: the file's (or the defaults), then the flags. A depth-map render is a verification render
+// (CONVENTIONS §7): unless --samples is given it uses 1 sample. Throws Error(Usage) for a malformed
+// vector or size flag, Error(InvalidInput) for a value out of range.
+Scene buildScene(const SceneFlags& flags);
+
+struct RenderedScene {
+    Image image;                                // RenderOutput's layout (render_settings.h)
+    std::vector<std::filesystem::path> inputs;  // files the render read (never to be overwritten)
+    std::string summary;                        // e.g. "teapot, relief 10+5, S = 0.08, 1280x720, 4x MSAA"
+};
+
+// Loads the mesh and material, makes a headless GL context and renders `scene`. `techniques`: when not
+// empty, renders once per technique (same everything else) and returns the pictures in that order.
+std::vector<RenderedScene> renderScene(const Scene& scene, const std::vector<Technique>& techniques = {});
+
+}  // namespace strata::cli

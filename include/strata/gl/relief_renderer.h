@@ -1,0 +1,149 @@
+// strata::gl::ReliefRenderer: relief mapping on arbitrary polygonal surfaces in OpenGL 4.5 core
+// (Policarpo, Oliveira, Comba 2005, "Real-Time Relief Mapping on Arbitrary Polygonal Surfaces", Sec. 3 and
+// the appendix's Cg shader), with the meta-relief paper's texture-space AO (Limberger et al. 2015, Sec. IV).
+// docs/renderer.md describes the techniques, shader variants, texture-to-world scale and measured accuracy.
+//
+// Everything here needs a current OpenGL 4.5 core context (HeadlessContext, or the viewer's window), and
+// GPU objects must be destroyed while the context that made them is current.
+//
+// Conventions. Textures follow CONVENTIONS §1-§5: the packed relief texture (R, G = n.xy * 0.5 + 0.5,
+// B = AO, A = d) is uploaded as RGBA16 with rows flipped (GL's row 0 is t = v = 0), full mipmaps, GL_REPEAT,
+// trilinear + 16x anisotropic filtering; colour as SRGB8_ALPHA8 with mipmaps. Pictures come back with
+// row 0 = top (CONVENTIONS §7).
+#pragma once
+
+#include "strata/image/image.h"
+#include "strata/mesh/mesh.h"
+#include "strata/relief/relief_texture.h"
+#include "strata/scene/camera.h"
+#include "strata/scene/render_settings.h"
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include <memory>
+#include <vector>
+
+namespace strata::gl {
+
+struct ProgramVariant;
+
+// A mesh in GPU memory: one vertex buffer (position, normal, uv, tangent, and the per-vertex world length
+// of a unit of uv along T and B, see uploadMesh), one index buffer, one vertex array. Move-only.
+class GpuMesh {
+public:
+    GpuMesh() = default;
+    ~GpuMesh();
+    GpuMesh(GpuMesh&& other) noexcept;
+    GpuMesh& operator=(GpuMesh&& other) noexcept;
+    GpuMesh(const GpuMesh&) = delete;
+    GpuMesh& operator=(const GpuMesh&) = delete;
+
+    int indexCount() const { return mIndexCount; }
+    const Bounds& bounds() const { return mBounds; }  // object space
+    // The largest object-space length of a unit of uv along T or B over the mesh (bounds the relief's
+    // depth below the surface in object space: S * this / tiling).
+    double maxUvLength() const { return mMaxUvLength; }
+    unsigned vertexArray() const { return mVao; }
+
+private:
+    friend GpuMesh uploadMesh(const Mesh& mesh);
+    unsigned mVao = 0;
+    unsigned mVbo = 0;
+    unsigned mIbo = 0;
+    int mIndexCount = 0;
+    Bounds mBounds;
+    double mMaxUvLength = 1.0;
+};
+
+// Uploads a mesh. Besides the Mesh attributes it computes, per vertex, the object-space length of one unit
+// of uv along T and along B (|dP/du|, |dP/dv|: the area-weighted mean over the triangles around the vertex;
+// 1 where the uv mapping is degenerate). The shader turns these into the world size of a tile unit, so that
+// a relief of depth S looks as deep (and casts shadows as long) as S tile widths (docs/renderer.md).
+// Throws Error(InvalidInput) naming the mesh for an empty mesh, an index count that is not a multiple of 3,
+// or an index out of range; Error(Runtime) on a GL error.
+GpuMesh uploadMesh(const Mesh& mesh);
+
+// A relief material in GPU memory: the packed relief texture (CONVENTIONS §5), the colour texture (1x1
+// white if the texture has none) and what the shader needs to know about them. Move-only.
+class GpuMaterial {
+public:
+    GpuMaterial() = default;
+    ~GpuMaterial();
+    GpuMaterial(GpuMaterial&& other) noexcept;
+    GpuMaterial& operator=(GpuMaterial&& other) noexcept;
+    GpuMaterial(const GpuMaterial&) = delete;
+    GpuMaterial& operator=(const GpuMaterial&) = delete;
+
+    double depthScale() const { return mDepthScale; }      // S the normal map is valid for
+    double aoDepthScale() const { return mAoDepthScale; }  // S the AO channel is valid for
+    bool hasAo() const { return mHasAo; }
+    bool hasColor() const { return mHasColor; }
+    int width() const { return mWidth; }  // of the relief texture
+    int height() const { return mHeight; }
+    unsigned reliefTexture() const { return mRelief; }
+    unsigned colorTexture() const { return mColor; }
+
+private:
+    friend GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale);
+    unsigned mRelief = 0;
+    unsigned mColor = 0;
+    double mDepthScale = kDefaultDepthScale;
+    double mAoDepthScale = kDefaultDepthScale;
+    bool mHasAo = false;
+    bool mHasColor = false;
+    int mWidth = 0;
+    int mHeight = 0;
+};
+
+// `texture`: depth + normal (+ colour, + ao). aoDepthScale: the depth scale the AO map is valid at (usually
+// texture.depthScale; the caller re-bakes for AoRescale::Exact and passes the render's S).
+// Throws Error(InvalidInput) for a texture without depth or normals, maps of the wrong channel count, or a
+// non-positive aoDepthScale; Error(Runtime) on a GL error.
+GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale);
+
+struct SceneObject {
+    const GpuMesh* mesh = nullptr;
+    glm::dmat4 model{1.0};                  // object -> world
+    const GpuMaterial* material = nullptr;  // null: plain Blinn-Phong surface of `color`
+    glm::dvec3 color{0.8};                  // sRGB-encoded albedo of a plain surface, [0, 1]
+};
+
+struct RenderRequest {
+    std::vector<SceneObject> objects;
+    Camera camera;
+    ReliefSettings relief;  // the same settings for every object with a material
+    Lighting lighting;
+    PictureSettings picture;
+};
+
+class ReliefRenderer {
+public:
+    // Needs a current GL 4.5 core context; compiles programs lazily per variant and caches them.
+    ReliefRenderer();
+    ~ReliefRenderer();
+    ReliefRenderer(const ReliefRenderer&) = delete;
+    ReliefRenderer& operator=(const ReliefRenderer&) = delete;
+
+    // Renders into framebuffers of its own and reads the picture back. Shaded: 3 channels, sRGB-encoded
+    // [0, 1], picture.samples MSAA (clamped to GL_MAX_SAMPLES). Uv: 3ch (u, v, hit). Shadow, Depth: 1ch.
+    // The debug outputs are 1 sample, float, not tone mapped (CONVENTIONS §7). Row 0 = top.
+    // Throws Error(InvalidInput) for invalid settings or camera, or an object without a mesh;
+    // Error(Runtime) for a GL error or a shader that fails to build.
+    Image render(const RenderRequest& request);
+
+    // Renders into the currently bound framebuffer with the given viewport (for the viewer); shaded only
+    // (request.picture.output and size are ignored). Clears colour and depth to the background; writes
+    // sRGB-encoded values (the caller must not enable GL_FRAMEBUFFER_SRGB). Same errors as render().
+    void draw(const RenderRequest& request, int viewportWidth, int viewportHeight);
+
+    // Builds (or finds in the cache) the program of a variant; throws like buildProgram. For tests and for
+    // warming the cache.
+    void prepare(const ProgramVariant& variant);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> mImpl;
+};
+
+}  // namespace strata::gl

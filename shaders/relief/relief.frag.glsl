@@ -1,0 +1,198 @@
+#version 450 core
+// Fragment stage of every surface program: relief mapping (Policarpo, Oliveira, Comba 2005, Sec. 3 and the
+// appendix's main_frag_relief), parallax, normal and texture mapping, plain surfaces, and the debug outputs
+// of CONVENTIONS §7. docs/renderer.md describes the variants.
+//
+// Variant flags (src/gl/program.cpp, variantDefines), one of each group:
+//   STRATA_PLAIN | STRATA_TECHNIQUE_TEXTURE | STRATA_TECHNIQUE_NORMAL | STRATA_TECHNIQUE_PARALLAX |
+//   STRATA_TECHNIQUE_RELIEF
+//   STRATA_OUTPUT_SHADED | STRATA_OUTPUT_UV | STRATA_OUTPUT_SHADOW | STRATA_OUTPUT_DEPTH
+// and optionally STRATA_SHADOWS (relief), STRATA_DEPTH_CORRECTION (relief, parallax), STRATA_AO (ambient
+// times the packed texture's AO) with STRATA_AO_PAPER (rescaled with aoRescalePaper).
+//
+// Spaces. "Tile space" is the tangent frame (T, B, N) measured in tile units: x along T, y along B, z out
+// of the surface; the relief lies at z = -S d. One tile unit is tileLength.x / .y / .z world units along
+// T / B / N (relief.vert.glsl), so a world vector w has tile-space coordinates
+// (w.T / tileLength.x, w.B / tileLength.y, w.N / tileLength.z).
+
+#include "relief_search.glsl"
+#include "shared/ao_rescale.h"
+
+in VertexData {
+    vec3 worldPosition;
+    vec3 normal;
+    vec3 tangent;
+    vec3 bitangent;
+    vec2 tile;
+    vec3 tileLength;
+} vIn;
+
+layout(binding = 1) uniform sampler2D uColor;  // SRGB8_ALPHA8: sampling returns linear colour
+// The packed relief texture again, with its own 16x anisotropic filtering, for the shaded output's final
+// normal and AO fetch (the searches read uRelief through a trilinear sampler: relief_renderer.cpp).
+layout(binding = 2) uniform sampler2D uReliefShade;
+
+uniform vec3 uEye;             // world
+uniform mat4 uViewProjection;  // world -> clip, for depth correction
+uniform float uDepthScale;     // S of the render, tile widths (CONVENTIONS §2)
+uniform float uNormalScale;    // S_render / S_material: the packed normals are valid at S_material
+uniform int uLinearSteps;      // N, linear search steps at normal incidence
+uniform int uBinarySteps;      // binary search steps
+uniform vec3 uLightPosition;   // world
+uniform vec3 uLightColor;      // linear RGB
+uniform float uAmbient;
+uniform float uSpecular;
+uniform float uShininess;
+uniform float uAoScale;        // S_render / S_ao, for STRATA_AO_PAPER
+uniform vec3 uPlainColor;      // linear albedo of a plain surface
+uniform bool uEncodeSrgb;      // shaded: write sRGB-encoded values (draw()) instead of linear (render())
+
+#ifdef STRATA_DEPTH_CORRECTION
+// The relief point is never nearer than the polygon (t >= 0 along the view ray), so depth only grows: the
+// driver may keep its early depth rejection against the polygon's depth.
+layout(depth_greater) out float gl_FragDepth;
+#endif
+
+layout(location = 0) out vec4 fColor;
+
+// The sRGB transfer function (IEC 61966-2-1), for uEncodeSrgb.
+vec3 linearToSrgb(vec3 c) {
+    c = clamp(c, 0.0, 1.0);
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}
+
+// The packed normal (CONVENTIONS §5: R, G = n.xy * 0.5 + 0.5, nz = sqrt(1 - nx^2 - ny^2)) at the render's
+// depth scale. A depth-derived normal is normalize(S dd/du, S dd/dv, 1) (CONVENTIONS §3), so scaling
+// (nx, ny) by S_render / S_material and renormalising is exact for it (for a normal map that did not come
+// from the depth it is the same linear stretch of the relief).
+vec3 tileNormal(vec4 texel) {
+    vec2 xy = texel.rg * 2.0 - 1.0;
+    float z = sqrt(max(1.0 - dot(xy, xy), 0.0));
+    return normalize(vec3(xy * uNormalScale, z));
+}
+
+void main() {
+    vec3 N = normalize(vIn.normal);
+    vec3 T = normalize(vIn.tangent);
+    vec3 B = normalize(vIn.bitangent);
+    vec3 tileLength = vIn.tileLength;
+    vec2 tile = vIn.tile;
+    // Derivatives in uniform control flow, for textureGrad inside the searches (relief_search.glsl).
+    gTileDx = dFdx(tile);
+    gTileDy = dFdy(tile);
+
+    // Paper appendix: v = normalize(p), the view vector, and s, the view vector in tangent space with z
+    // pointing into the surface (s.z = dot(N, -v)); here in tile units (see "Spaces").
+    vec3 view = normalize(vIn.worldPosition - uEye);
+    vec3 s = vec3(dot(view, T) / tileLength.x, dot(view, B) / tileLength.y, -dot(view, N) / tileLength.z);
+    // A fragment whose view ray does not go into the surface (an interpolated normal facing away near a
+    // silhouette) has no relief point; it is shaded at the polygon.
+    bool entering = s.z > 0.0;
+
+    vec2 hitUv = tile;     // tile coordinates of the visible point (not wrapped)
+    float hitDepth = 0.0;  // its depth d
+    float bracket = 0.0;   // the relief search's final window: the surface is within this above hitDepth
+    bool hit = true;       // whether the fragment shows a point of the relief
+
+#if defined(STRATA_TECHNIQUE_RELIEF)
+    // Paper appendix: ds = s.xy * depth / s.z, the (u, v) travel from depth 0 to depth 1, and
+    // d = ray_intersect_rm(rmtex, dp, ds); the step count adapts to the view angle (Sec. 3).
+    if (entering) {
+        vec2 ds = s.xy * uDepthScale / s.z;
+        // Clamped: int() of a NaN (a degenerate frame) is undefined and must not become a huge loop bound.
+        int steps = clamp(reliefLinearSteps(uLinearSteps, dot(view, N)), 1, 4 * uLinearSteps);
+        hitDepth = reliefIntersect(tile, ds, steps, uBinarySteps);
+        bracket = 1.0 / (float(steps) * exp2(float(max(uBinarySteps - 1, 0))));
+        hitUv = tile + ds * hitDepth;
+    } else {
+        hit = false;
+    }
+#elif defined(STRATA_TECHNIQUE_PARALLAX)
+    // Parallax mapping (Kaneko et al. 2001, the paper's Sec. 2): read d at the fragment's own uv and move
+    // along the view ray to that depth, uv' = uv + (d S) s.xy / s.z; with V = (-s.x, -s.y, s.z) the vector
+    // towards the eye this is the usual offset -(d S) V.xy / V.z. One fetch, no search: right only where d
+    // varies slowly.
+    if (entering) {
+        hitDepth = reliefSample(tile).a;
+        hitUv = tile + s.xy * (hitDepth * uDepthScale / s.z);
+    } else {
+        hit = false;
+    }
+#elif defined(STRATA_PLAIN)
+    hit = false;  // no relief: the debug outputs show nothing
+#endif
+
+    // The visible point in world space: the fragment moved along the view ray to depth hitDepth (the tile
+    // offset (hitUv - tile, -S hitDepth) is parallel to s, so this stays on the ray). Appendix: p += v*d*s.z.
+    vec2 offset = hitUv - tile;
+    vec3 hitWorld = vIn.worldPosition + T * (offset.x * tileLength.x) + B * (offset.y * tileLength.y) -
+                    N * (hitDepth * uDepthScale * tileLength.z);
+
+#ifdef STRATA_DEPTH_CORRECTION
+    // Paper Sec. 5 and appendix, RM_DEPTHCORRECT: the depth of the relief point, not of the polygon, so that
+    // other geometry interpenetrates the relief correctly.
+    vec4 clip = uViewProjection * vec4(hitWorld, 1.0);
+    gl_FragDepth = (gl_DepthRange.diff * (clip.z / clip.w) + gl_DepthRange.near + gl_DepthRange.far) * 0.5;
+#endif
+
+    // The light, in world space and in tile space, from the visible point (a point light).
+    vec3 toLightWorld = uLightPosition - hitWorld;
+    vec3 toLightTile = vec3(dot(toLightWorld, T) / tileLength.x, dot(toLightWorld, B) / tileLength.y,
+                            dot(toLightWorld, N) / tileLength.z);
+    // A light at or below the tangent plane shadows (every technique).
+    bool lit = toLightTile.z > 0.0;
+#if defined(STRATA_TECHNIQUE_RELIEF) && defined(STRATA_SHADOWS)
+    // Sec. 3.1 and appendix RM_SHADOWS: the light ray through the hit, searched from the top down to it.
+    if (lit && hit) {
+        float cosLight = dot(normalize(toLightWorld), N);
+        int lightSteps = clamp(reliefLinearSteps(uLinearSteps, cosLight), 1, 4 * uLinearSteps);
+        lit = reliefLit(hitUv, hitDepth, bracket, toLightTile, uDepthScale, lightSteps);
+    }
+#endif
+
+#if defined(STRATA_OUTPUT_UV)
+    // CONVENTIONS §7: (u, v) of the first hit modulo 1, and 1 for a hit. fract() of a value just below an
+    // integer rounds to 1.0 in float; that is u = 0 of the next tile.
+    vec2 uv = fract(hitUv);
+    uv = mix(uv, vec2(0.0), greaterThanEqual(uv, vec2(1.0)));
+    fColor = hit ? vec4(uv, 1.0, 1.0) : vec4(0.0, 0.0, 0.0, 1.0);
+#elif defined(STRATA_OUTPUT_DEPTH)
+    fColor = vec4(hit ? hitDepth : 0.0, 0.0, 0.0, 1.0);
+#elif defined(STRATA_OUTPUT_SHADOW)
+    fColor = vec4(hit && lit ? 1.0 : 0.0, 0.0, 0.0, 1.0);
+#else
+    // Shaded: Blinn-Phong with one point light (paper appendix: ambient * colour + diffuse + specular), in
+    // linear RGB. Albedo and normal come from the visible point's tile coordinates, sampled with the
+    // fragment's derivatives (mip mapping and anisotropic filtering, paper Sec. 5).
+    vec3 albedo;
+    vec3 normal = N;
+    float ao = 1.0;
+#ifdef STRATA_PLAIN
+    albedo = uPlainColor;
+#else
+    albedo = textureGrad(uColor, hitUv, gTileDx, gTileDy).rgb;
+#if !defined(STRATA_TECHNIQUE_TEXTURE)
+    vec4 texel = textureGrad(uReliefShade, hitUv, gTileDx, gTileDy);
+    // Tile-space normal to world: normals transform with the inverse of the tile -> world scaling.
+    vec3 n = tileNormal(texel);
+    normal = normalize(T * (n.x / tileLength.x) + B * (n.y / tileLength.y) + N * (n.z / tileLength.z));
+#ifdef STRATA_AO
+    // Texture-space AO (Limberger et al. 2015, Sec. IV), in the packed texture's B channel; with
+    // STRATA_AO_PAPER rescaled to the render's depth scale by Eq. 4-6 (shaders/shared/ao_rescale.h).
+    ao = texel.b;
+#ifdef STRATA_AO_PAPER
+    ao = aoRescalePaper(ao, uAoScale);
+#endif
+#endif
+#endif
+#endif
+    vec3 L = normalize(toLightWorld);
+    vec3 V = normalize(uEye - hitWorld);
+    vec3 H = normalize(L + V);
+    float diffuse = max(dot(normal, L), 0.0);
+    float specular = diffuse > 0.0 ? uSpecular * pow(max(dot(normal, H), 0.0), uShininess) : 0.0;
+    vec3 color = uAmbient * ao * albedo;
+    if (lit) color += uLightColor * (diffuse * albedo + specular);
+    fColor = vec4(uEncodeSrgb ? linearToSrgb(color) : color, 1.0);
+#endif
+}

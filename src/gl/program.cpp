@@ -1,0 +1,378 @@
+#include "strata/gl/program.h"
+
+#include "embedded_shaders.h"
+#include "strata/core/error.h"
+#include "strata/gl/gl_error.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cstring>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <utility>
+
+namespace strata::gl {
+
+ShaderLibrary::ShaderLibrary(std::map<std::string, std::string> files) : mFiles(std::move(files)) {}
+
+const ShaderLibrary& ShaderLibrary::embedded() {
+    static const ShaderLibrary library = [] {
+        std::map<std::string, std::string> files;
+        for (std::size_t i = 0; i < detail::kEmbeddedShaderFileCount; ++i) {
+            files.emplace(detail::kEmbeddedShaderFiles[i].path,
+                          std::string(detail::kEmbeddedShaderFiles[i].content));
+        }
+        return ShaderLibrary(std::move(files));
+    }();
+    return library;
+}
+
+namespace {
+
+std::vector<std::string> splitLines(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream stream(text);
+    for (std::string line; std::getline(stream, line);) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        lines.push_back(line);
+    }
+    return lines;
+}
+
+std::string folderOf(const std::string& path) {
+    const std::size_t slash = path.rfind('/');
+    return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+// "a/b/../c.glsl" -> "a/c.glsl"; "./" removed.
+std::string normalisePath(const std::string& path) {
+    std::vector<std::string> parts;
+    std::istringstream stream(path);
+    for (std::string part; std::getline(stream, part, '/');) {
+        if (part.empty() || part == ".") continue;
+        if (part == ".." && !parts.empty() && parts.back() != "..") {
+            parts.pop_back();
+        } else {
+            parts.push_back(part);
+        }
+    }
+    std::string result;
+    for (const std::string& part : parts) result += (result.empty() ? "" : "/") + part;
+    return result;
+}
+
+bool isVersionLine(const std::string& line) {
+    static const std::regex pattern(R"(^\s*#\s*version\b.*)");
+    return std::regex_match(line, pattern);
+}
+
+class Preprocessor {
+public:
+    explicit Preprocessor(const std::map<std::string, std::string>& library) : mFiles(library) {}
+
+    // Appends `path` from line `firstLine` (1-based) on, resolving includes.
+    void append(const std::string& path, std::size_t firstLine, std::vector<std::string>& stack) {
+        static const std::regex includePattern(R"re(^\s*#\s*include\s+"([^"]+)"\s*(//.*)?$)re");
+        const int index = fileIndex(path);
+        const std::vector<std::string> lines = splitLines(mFiles.at(path));
+        stack.push_back(path);
+        for (std::size_t i = firstLine - 1; i < lines.size(); ++i) {
+            const std::string& line = lines[i];
+            std::smatch match;
+            if (isVersionLine(line)) {
+                fail(path, i + 1, "#version is allowed only on the first line of a stage file");
+            }
+            if (!std::regex_match(line, match, includePattern)) {
+                out += line + "\n";
+                continue;
+            }
+            const std::string name = match[1].str();
+            std::string resolved = normalisePath(folderOf(path) + name);
+            if (mFiles.count(resolved) == 0) resolved = normalisePath(name);
+            if (mFiles.count(resolved) == 0) {
+                fail(path, i + 1,
+                     "#include \"" + name + "\" not found (looked in '" + folderOf(path) +
+                         "' and the shader root)");
+            }
+            if (std::find(stack.begin(), stack.end(), resolved) != stack.end()) {
+                fail(path, i + 1, "#include \"" + name + "\" is an include cycle");
+            }
+            if (mIncluded.insert(resolved).second) {
+                out += "#line 1 " + std::to_string(fileIndex(resolved)) + "\n";
+                append(resolved, 1, stack);
+                out += "#line " + std::to_string(i + 2) + " " + std::to_string(index) + "\n";
+            } else {
+                out += "\n";  // already pasted (include once); keep the line count
+            }
+        }
+        stack.pop_back();
+    }
+
+    int fileIndex(const std::string& path) {
+        const auto it = std::find(files.begin(), files.end(), path);
+        if (it != files.end()) return static_cast<int>(it - files.begin());
+        files.push_back(path);
+        return static_cast<int>(files.size() - 1);
+    }
+
+    [[noreturn]] static void fail(const std::string& path, std::size_t line, const std::string& what) {
+        throw Error(ErrorKind::InvalidInput, "shader " + path + ":" + std::to_string(line) + ": " + what);
+    }
+
+    std::string out;
+    std::vector<std::string> files;
+
+private:
+    const std::map<std::string, std::string>& mFiles;
+    std::set<std::string> mIncluded;
+};
+
+}  // namespace
+
+PreprocessedSource ShaderLibrary::preprocess(const std::string& path,
+                                             const std::vector<std::string>& defines) const {
+    const auto it = mFiles.find(path);
+    if (it == mFiles.end()) {
+        throw Error(ErrorKind::InvalidInput, "shader " + path + ": no such file in the shader library");
+    }
+    const std::vector<std::string> lines = splitLines(it->second);
+    if (lines.empty() || !isVersionLine(lines[0])) {
+        Preprocessor::fail(path, 1, "a stage file must start with its #version line");
+    }
+    Preprocessor preprocessor(mFiles);
+    preprocessor.fileIndex(path);
+    preprocessor.out = lines[0] + "\n";
+    for (const std::string& define : defines) preprocessor.out += "#define " + define + "\n";
+    preprocessor.out += "#line 2 0\n";
+    std::vector<std::string> stack;
+    preprocessor.append(path, 2, stack);
+    return {std::move(preprocessor.out), std::move(preprocessor.files)};
+}
+
+Program::~Program() {
+    if (mId != 0) glDeleteProgram(mId);
+}
+
+Program::Program(Program&& other) noexcept
+    : mId(std::exchange(other.mId, 0)), mLocations(std::move(other.mLocations)) {}
+
+Program& Program::operator=(Program&& other) noexcept {
+    if (this != &other) {
+        if (mId != 0) glDeleteProgram(mId);
+        mId = std::exchange(other.mId, 0);
+        mLocations = std::move(other.mLocations);
+    }
+    return *this;
+}
+
+int Program::uniformLocation(const std::string& name) const {
+    const auto it = mLocations.find(name);
+    if (it != mLocations.end()) return it->second;
+    const int location = glGetUniformLocation(mId, name.c_str());
+    mLocations.emplace(name, location);
+    return location;
+}
+
+namespace {
+
+// Rewrites the source-string numbers of a driver log into file names. Formats: Mesa "0:12(5): error: ...",
+// NVIDIA "0(12) : error C0000: ...", AMD and glslang "ERROR: 0:12: ...".
+std::string mapLog(const std::string& log, const std::vector<std::string>& files) {
+    static const std::regex mesa(R"(^(\s*)(\d+):(\d+)\((\d+)\))");
+    static const std::regex nvidia(R"(^(\s*)(\d+)\((\d+)\))");
+    static const std::regex amd(R"(^(\s*\w+: )(\d+):(\d+):)");
+    const auto name = [&](const std::string& index) {
+        const std::size_t i = std::stoul(index);
+        return i < files.size() ? files[i] : "source " + index;
+    };
+    std::string result;
+    for (const std::string& line : splitLines(log)) {
+        std::smatch match;
+        if (std::regex_search(line, match, mesa)) {
+            result += match[1].str() + name(match[2]) + ":" + match[3].str() + "(" + match[4].str() + ")" +
+                      match.suffix().str();
+        } else if (std::regex_search(line, match, nvidia)) {
+            result += match[1].str() + name(match[2]) + ":" + match[3].str() + match.suffix().str();
+        } else if (std::regex_search(line, match, amd)) {
+            result += match[1].str() + name(match[2]) + ":" + match[3].str() + ":" + match.suffix().str();
+        } else {
+            result += line;
+        }
+        result += "\n";
+    }
+    return result;
+}
+
+std::string shaderLog(GLuint shader) {
+    GLint length = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
+    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    log.resize(std::strlen(log.c_str()));
+    return log;
+}
+
+GLuint compileStage(GLenum stage, const PreprocessedSource& source, const std::string& path,
+                    const std::string& label) {
+    const GLuint shader = glCreateShader(stage);
+    const char* text = source.text.c_str();
+    glShaderSource(shader, 1, &text, nullptr);
+    glCompileShader(shader);
+    GLint ok = GL_FALSE;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (ok != GL_TRUE) {
+        const std::string log = mapLog(shaderLog(shader), source.files);
+        glDeleteShader(shader);
+        throw Error(ErrorKind::Runtime, "compiling " + path + " (program " + label + ") failed:\n" + log);
+    }
+    return shader;
+}
+
+}  // namespace
+
+Program buildProgram(const ShaderLibrary& library, const std::string& vertexPath,
+                     const std::string& fragmentPath, const std::vector<std::string>& defines,
+                     const std::string& label) {
+    const PreprocessedSource vertexSource = library.preprocess(vertexPath, defines);
+    const PreprocessedSource fragmentSource = library.preprocess(fragmentPath, defines);
+    checkGl(("before building program " + label).c_str());
+    const GLuint vertex = compileStage(GL_VERTEX_SHADER, vertexSource, vertexPath, label);
+    GLuint fragment = 0;
+    try {
+        fragment = compileStage(GL_FRAGMENT_SHADER, fragmentSource, fragmentPath, label);
+    } catch (...) {
+        glDeleteShader(vertex);
+        throw;
+    }
+    Program program(glCreateProgram());
+    glAttachShader(program.id(), vertex);
+    glAttachShader(program.id(), fragment);
+    glLinkProgram(program.id());
+    glDetachShader(program.id(), vertex);
+    glDetachShader(program.id(), fragment);
+    glDeleteShader(vertex);
+    glDeleteShader(fragment);
+    GLint ok = GL_FALSE;
+    glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
+    if (ok != GL_TRUE) {
+        GLint length = 0;
+        glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
+        std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
+        glGetProgramInfoLog(program.id(), length, nullptr, log.data());
+        log.resize(std::strlen(log.c_str()));
+        throw Error(ErrorKind::Runtime, "linking " + vertexPath + " + " + fragmentPath + " (program " +
+                                            label + ") failed:\n" + mapLog(log, fragmentSource.files));
+    }
+    checkGl(("building program " + label).c_str());
+    return program;
+}
+
+ProgramVariant canonical(ProgramVariant variant) {
+    if (variant.plain) {
+        variant.technique = Technique::Texture;
+        variant.shadows = false;
+        variant.depthCorrection = false;
+        variant.ao = AoMode::Off;
+        return variant;
+    }
+    const bool relief = variant.technique == Technique::Relief;
+    const bool displaced = relief || variant.technique == Technique::Parallax;
+    if (!relief || (variant.output != RenderOutput::Shaded && variant.output != RenderOutput::Shadow)) {
+        variant.shadows = false;
+    }
+    if (!displaced) variant.depthCorrection = false;
+    if (variant.output != RenderOutput::Shaded || variant.technique == Technique::Texture)
+        variant.ao = AoMode::Off;
+    return variant;
+}
+
+std::vector<ProgramVariant> allVariants() {
+    std::vector<ProgramVariant> variants;
+    for (const bool plain : {false, true}) {
+        for (const Technique technique :
+             {Technique::Texture, Technique::Normal, Technique::Parallax, Technique::Relief}) {
+            for (const RenderOutput output :
+                 {RenderOutput::Shaded, RenderOutput::Uv, RenderOutput::Shadow, RenderOutput::Depth}) {
+                for (const bool shadows : {false, true}) {
+                    for (const bool depthCorrection : {false, true}) {
+                        for (const AoMode ao : {AoMode::Off, AoMode::Baked, AoMode::Paper}) {
+                            const ProgramVariant variant =
+                                canonical({technique, output, plain, shadows, depthCorrection, ao});
+                            if (std::find(variants.begin(), variants.end(), variant) == variants.end()) {
+                                variants.push_back(variant);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    return variants;
+}
+
+std::string variantName(const ProgramVariant& variant) {
+    std::string name = variant.plain ? "plain" : toString(variant.technique);
+    name += std::string("-") + toString(variant.output);
+    if (variant.shadows) name += "-shadows";
+    if (variant.depthCorrection) name += "-depthcorrect";
+    if (variant.ao == AoMode::Baked) name += "-ao";
+    if (variant.ao == AoMode::Paper) name += "-aopaper";
+    return name;
+}
+
+std::vector<std::string> variantDefines(const ProgramVariant& variant) {
+    std::vector<std::string> defines;
+    if (variant.plain) {
+        defines.emplace_back("STRATA_PLAIN");
+    } else {
+        switch (variant.technique) {
+            case Technique::Texture:
+                defines.emplace_back("STRATA_TECHNIQUE_TEXTURE");
+                break;
+            case Technique::Normal:
+                defines.emplace_back("STRATA_TECHNIQUE_NORMAL");
+                break;
+            case Technique::Parallax:
+                defines.emplace_back("STRATA_TECHNIQUE_PARALLAX");
+                break;
+            case Technique::Relief:
+                defines.emplace_back("STRATA_TECHNIQUE_RELIEF");
+                break;
+        }
+    }
+    switch (variant.output) {
+        case RenderOutput::Shaded:
+            defines.emplace_back("STRATA_OUTPUT_SHADED");
+            break;
+        case RenderOutput::Uv:
+            defines.emplace_back("STRATA_OUTPUT_UV");
+            break;
+        case RenderOutput::Shadow:
+            defines.emplace_back("STRATA_OUTPUT_SHADOW");
+            break;
+        case RenderOutput::Depth:
+            defines.emplace_back("STRATA_OUTPUT_DEPTH");
+            break;
+    }
+    if (variant.shadows) defines.emplace_back("STRATA_SHADOWS");
+    if (variant.depthCorrection) defines.emplace_back("STRATA_DEPTH_CORRECTION");
+    if (variant.ao != AoMode::Off) defines.emplace_back("STRATA_AO");
+    if (variant.ao == AoMode::Paper) defines.emplace_back("STRATA_AO_PAPER");
+    return defines;
+}
+
+PreprocessedSource variantSource(const ProgramVariant& variant, ShaderStage stage) {
+    const ProgramVariant v = canonical(variant);
+    return ShaderLibrary::embedded().preprocess(
+        stage == ShaderStage::Vertex ? kSurfaceVertexShader : kSurfaceFragmentShader, variantDefines(v));
+}
+
+Program buildVariantProgram(const ProgramVariant& variant) {
+    const ProgramVariant v = canonical(variant);
+    return buildProgram(ShaderLibrary::embedded(), kSurfaceVertexShader, kSurfaceFragmentShader,
+                        variantDefines(v), variantName(v));
+}
+
+}  // namespace strata::gl

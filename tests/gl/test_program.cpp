@@ -1,0 +1,170 @@
+// Programs: include resolution, #line mapping of driver errors, every variant in GL and in glslangValidator,
+// and the shared GLSL/C++ step count.
+#include "gl_test_support.h"
+#include "shared/relief_search.h"
+#include "strata/core/error.h"
+#include "strata/core/file.h"
+#include "strata/gl/program.h"
+#include "strata/gl/relief_renderer.h"
+#include "strata/scene/render_settings.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+
+namespace strata::gl {
+namespace {
+
+using test::GlTest;
+
+std::string errorMessage(const auto& call) {
+    try {
+        call();
+    } catch (const Error& error) {
+        return error.what();
+    }
+    return "(no error)";
+}
+
+TEST(ShaderLibrary, ResolvesIncludesOnceWithLineDirectives) {
+    const ShaderLibrary library(
+        {{"main.frag.glsl", "#version 450 core\n#include \"lib/a.glsl\"\nvoid main() {}\n"},
+         {"lib/a.glsl", "#include \"b.glsl\"\nfloat a;\n#include \"b.glsl\"\n"},
+         {"lib/b.glsl", "float b;\n"}});
+    const PreprocessedSource source = library.preprocess("main.frag.glsl", {"FLAG", "VALUE 2"});
+    // #version first, then the defines, then every file switch marked with #line <next line> <file>.
+    EXPECT_EQ(source.text,
+              "#version 450 core\n#define FLAG\n#define VALUE 2\n#line 2 0\n"
+              "#line 1 1\n#line 1 2\nfloat b;\n#line 2 1\nfloat a;\n\n#line 3 0\nvoid main() {}\n");
+    ASSERT_EQ(source.files.size(), 3u);
+    EXPECT_EQ(source.files[1], "lib/a.glsl");
+    EXPECT_EQ(source.files[2], "lib/b.glsl");
+}
+
+TEST(ShaderLibrary, ReportsMissingIncludesAndCycles) {
+    const ShaderLibrary library({{"m.vert.glsl", "#version 450 core\n\n#include \"nope.glsl\"\n"},
+                                 {"c.vert.glsl", "#version 450 core\n#include \"x.glsl\"\n"},
+                                 {"x.glsl", "#include \"x.glsl\"\n"},
+                                 {"noversion.vert.glsl", "void main() {}\n"}});
+    EXPECT_NE(errorMessage([&] { library.preprocess("m.vert.glsl", {}); }).find("m.vert.glsl:3"),
+              std::string::npos);
+    EXPECT_NE(errorMessage([&] { library.preprocess("c.vert.glsl", {}); }).find("cycle"), std::string::npos);
+    EXPECT_NE(errorMessage([&] { library.preprocess("noversion.vert.glsl", {}); }).find("#version"),
+              std::string::npos);
+    EXPECT_NE(errorMessage([&] { library.preprocess("absent.glsl", {}); }).find("absent.glsl"),
+              std::string::npos);
+}
+
+TEST(ShaderLibrary, EmbedsTheShaderTree) {
+    const ShaderLibrary& library = ShaderLibrary::embedded();
+    EXPECT_TRUE(library.contains(kSurfaceVertexShader));
+    EXPECT_TRUE(library.contains(kSurfaceFragmentShader));
+    EXPECT_TRUE(library.contains("relief/relief_search.glsl"));
+    EXPECT_TRUE(library.contains("shared/ao_rescale.h"));
+    EXPECT_TRUE(library.contains("shared/relief_search.h"));
+}
+
+TEST(ProgramVariants, AreDistinctAndCanonical) {
+    const std::vector<ProgramVariant> variants = allVariants();
+    // Shaded: texture 1 (no AO: it has no relief texture), normal 3 (AO modes), parallax 6 (x depth
+    // correction), relief 12 (x shadows); uv and depth 6 each (relief and parallax x depth correction);
+    // shadow 8 (relief x shadows); plain 4 (one per output).
+    EXPECT_EQ(variants.size(), 46u);
+    std::set<std::string> names;
+    for (const ProgramVariant& variant : variants) {
+        EXPECT_EQ(canonical(variant), variant);
+        EXPECT_TRUE(names.insert(variantName(variant)).second) << variantName(variant);
+    }
+}
+
+// The shared step count (shaders/shared/relief_search.h, float) against adaptiveLinearSteps (double).
+TEST(ProgramVariants, SharedStepCountMatchesRenderSettings) {
+    for (const int n : {1, 5, 10, 32, 64, 100, 1024}) {
+        for (int i = 0; i <= 1000; ++i) {
+            const double c = i / 1000.0;
+            const int expected = adaptiveLinearSteps(n, c);
+            const int actual = shared::reliefLinearSteps(n, static_cast<float>(c));
+            // Float and double may round a value within float precision of k + 0.5 differently: one step.
+            EXPECT_LE(std::abs(actual - expected), 1) << "n " << n << " cos " << c;
+            // Away from such ties they agree exactly.
+            const double x = n / std::max(c, 0.25) + 0.5;
+            if (std::abs(x - std::round(x)) > 1e-4) {
+                EXPECT_EQ(actual, expected) << "n " << n << " cos " << c;
+            }
+        }
+    }
+}
+
+// glslangValidator (the reference GLSL front end) on both stages of every variant: one test listing every
+// failure with its log.
+TEST(ProgramVariants, PassGlslangValidator) {
+    const std::string validator = STRATA_GLSLANG_VALIDATOR;
+    if (validator.empty()) {
+        FAIL() << "glslangValidator not found (glslang-tools); run scripts/install-deps.sh";
+    }
+    const std::filesystem::path dir = test::failureDirectory("glslang_variants");
+    std::filesystem::create_directories(dir);
+    // One run over all files (glslangValidator takes the stage from the extension and compiles each file
+    // on its own); its log names the file of every error.
+    std::string command = "'" + validator + "'";
+    int checked = 0;
+    for (const ProgramVariant& variant : allVariants()) {
+        for (const ShaderStage stage : {ShaderStage::Vertex, ShaderStage::Fragment}) {
+            const std::filesystem::path file =
+                dir / (variantName(variant) + (stage == ShaderStage::Vertex ? ".vert" : ".frag"));
+            std::ofstream(file) << variantSource(variant, stage).text;
+            command += " '" + file.string() + "'";
+            ++checked;
+        }
+    }
+    const std::filesystem::path log = dir / "glslang.log";
+    const int status = std::system((command + " > '" + log.string() + "' 2>&1").c_str());
+    const std::string failures = status == 0 ? std::string() : readTextFile(log);
+    EXPECT_EQ(checked, 92);
+    EXPECT_TRUE(failures.empty()) << failures;
+}
+
+class ProgramGl : public GlTest {};
+
+TEST_F(ProgramGl, EveryVariantCompilesAndLinks) {
+    ReliefRenderer renderer;
+    for (const ProgramVariant& variant : allVariants()) {
+        EXPECT_NO_THROW(renderer.prepare(variant)) << variantName(variant);
+    }
+}
+
+TEST_F(ProgramGl, CompileErrorNamesFileAndLine) {
+    const ShaderLibrary library(
+        {{"t.vert.glsl", "#version 450 core\nvoid main() { gl_Position = vec4(0.0); }\n"},
+         {"t.frag.glsl",
+          "#version 450 core\n#include \"inc/broken.glsl\"\nout vec4 c;\nvoid main() { c = f(); }\n"},
+         {"inc/broken.glsl", "// line 1\n// line 2\nvec4 f() { return undefinedThing; }\n"}});
+    const std::string message =
+        errorMessage([&] { buildProgram(library, "t.vert.glsl", "t.frag.glsl", {}, "broken"); });
+    // The error is on line 3 of the included file, whatever the driver's message format.
+    EXPECT_TRUE(std::regex_search(message, std::regex(R"(inc/broken\.glsl:3\b)"))) << message;
+    EXPECT_NE(message.find("t.frag.glsl"), std::string::npos) << message;
+    EXPECT_NE(message.find("undefinedThing"), std::string::npos) << message;
+}
+
+TEST_F(ProgramGl, LinkErrorIsReported) {
+    const ShaderLibrary library(
+        {{"t.vert.glsl",
+          "#version 450 core\nout float x;\nvoid main() { x = 1.0; gl_Position = vec4(0.0); }\n"},
+         {"t.frag.glsl",
+          "#version 450 core\nin vec2 x;\nout vec4 c;\nvoid main() { c = vec4(x, 0.0, 1.0); }\n"}});
+    const std::string message =
+        errorMessage([&] { buildProgram(library, "t.vert.glsl", "t.frag.glsl", {}, "mismatch"); });
+    EXPECT_NE(message.find("linking"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace strata::gl
