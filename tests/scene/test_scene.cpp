@@ -177,5 +177,16 @@ TEST(Scene, ExactAoRescaleRebakesAtTheRenderDepthScale) {
     EXPECT_EQ(aoScale, 0.1);
 }
 
+TEST(Scene, TheShippedExampleScenesParse) {
+    int count = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(STRATA_SOURCE_DIR) /
+                                                                  "examples" / "scenes")) {
+        if (entry.path().extension() != ".json") continue;
+        EXPECT_NO_THROW(readScene(entry.path())) << entry.path();
+        ++count;
+    }
+    EXPECT_GE(count, 3);
+}
+
 }  // namespace
 }  // namespace strata
