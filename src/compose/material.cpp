@@ -184,14 +184,7 @@ Material parseMaterial(const json& document, const fs::path& source) {
 }
 
 Material readMaterial(const fs::path& path) {
-    const std::string text = readTextFile(path);
-    json document;
-    try {
-        document = json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw Error(ErrorKind::InvalidInput, path.string() + ": not valid JSON: " + e.what());
-    }
-    return parseMaterial(document, path);
+    return parseMaterial(detail::readJsonFile(path), path);
 }
 
 std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<std::string>* notes) {

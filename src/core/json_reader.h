@@ -3,10 +3,12 @@
 #pragma once
 
 #include "strata/core/error.h"
+#include "strata/core/file.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <optional>
 #include <set>
 #include <string>
@@ -102,5 +104,16 @@ private:
     std::string mFile;
     std::set<std::string> mSeen;
 };
+
+// Reads and parses a JSON file. Throws Error(Io) if it cannot be read and Error(InvalidInput)
+// "<file>: not valid JSON: <parser message with line and column>".
+inline json readJsonFile(const std::filesystem::path& path) {
+    const std::string text = readTextFile(path);
+    try {
+        return json::parse(text);
+    } catch (const json::parse_error& e) {
+        throw Error(ErrorKind::InvalidInput, path.string() + ": not valid JSON: " + e.what());
+    }
+}
 
 }  // namespace strata::detail

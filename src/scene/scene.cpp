@@ -156,14 +156,7 @@ Scene parseScene(const json& document, const fs::path& source) {
 }
 
 Scene readScene(const fs::path& path) {
-    const std::string text = readTextFile(path);
-    json document;
-    try {
-        document = json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw Error(ErrorKind::InvalidInput, path.string() + ": not valid JSON: " + e.what());
-    }
-    return parseScene(document, path);
+    return parseScene(detail::readJsonFile(path), path);
 }
 
 Camera frameCamera(const Bounds& bounds, double aspect, double fovYDegrees) {
