@@ -81,11 +81,11 @@ TEST(Camera, BadCamerasAreRejected) {
 
 TEST(RenderSettings, LinearStepsKeepTheStepLengthAlongTheRay) {
     EXPECT_EQ(adaptiveLinearSteps(10, 1.0), 10);
-    EXPECT_EQ(adaptiveLinearSteps(10, 0.5), 20);   // 60 degrees: the ray is twice as long
-    EXPECT_EQ(adaptiveLinearSteps(10, 0.0), 40);   // capped at 4 N
+    EXPECT_EQ(adaptiveLinearSteps(10, 0.5), 20);  // 60 degrees: the ray is twice as long
+    EXPECT_EQ(adaptiveLinearSteps(10, 0.0), 40);  // capped at 4 N
     EXPECT_EQ(adaptiveLinearSteps(10, 0.2), 40);
     EXPECT_EQ(adaptiveLinearSteps(64, -1.0), 64);  // |cos|: a ray from below counts like one from above
-    EXPECT_EQ(adaptiveLinearSteps(64, std::cos(45.0 * M_PI / 180.0)), 91);  // 64 * sqrt(2) = 90.5
+    EXPECT_EQ(adaptiveLinearSteps(64, std::cos(45.0 * M_PI / 180.0)), 91);   // 64 * sqrt(2) = 90.5
     EXPECT_EQ(adaptiveLinearSteps(64, std::cos(75.0 * M_PI / 180.0)), 247);  // 64 / 0.2588 = 247.3
 }
 

@@ -180,7 +180,7 @@ TEST(Scene, ExactAoRescaleRebakesAtTheRenderDepthScale) {
 TEST(Scene, TheShippedExampleScenesParse) {
     int count = 0;
     for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(STRATA_SOURCE_DIR) /
-                                                                  "examples" / "scenes")) {
+                                                                 "examples" / "scenes")) {
         if (entry.path().extension() != ".json") continue;
         EXPECT_NO_THROW(readScene(entry.path())) << entry.path();
         ++count;

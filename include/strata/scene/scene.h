@@ -10,20 +10,22 @@
 //     "size": [1280, 720], "samples": 4, "output": "shaded", "background": [0.16, 0.17, 0.19] }
 //
 // Every key is optional; the defaults render the main job (the teapot with the Shaped Fabric meta-relief of
-// the meta-relief paper's Fig. 1(b)). Parsing is strict, like materials: an unknown key, a wrong type or a value
-// out of range throws Error(InvalidInput) "<file>: <key>: <what is wrong>"; a missing file throws Error(Io).
+// the meta-relief paper's Fig. 1(b)). Parsing is strict, like materials: an unknown key, a wrong type or a
+// value out of range throws Error(InvalidInput) "<file>: <key>: <what is wrong>"; a missing file throws
+// Error(Io).
 //
-// Meshes ("mesh"): a built-in name (builtinMeshList(): teapot, cube, sphere, torus, cylinder, plane, quad) or a
-// mesh file (.obj, .gltf, .glb). A name is a built-in unless a file of that name exists.
-// Materials ("material"): in this order,
-//   - an existing path: a material JSON (composed on load, docs/material.md), or a texture set directory or its
+// Meshes ("mesh"): a built-in name (builtinMeshList(): teapot, cube, sphere, torus, cylinder, plane, quad) or
+// a mesh file (.obj, .gltf, .glb). A name is a built-in unless a file of that name exists. Materials
+// ("material"): in this order,
+//   - an existing path: a material JSON (composed on load, docs/material.md), or a texture set directory or
+//   its
 //     strata.json (docs/texture-sets.md);
 //   - "shaped-fabric": the built-in material of the main job (examples/shaped_fabric.json: base + fabric,
 //     weights 1.0 / 0.3, exact AO);
 //   - a built-in pattern name (patternList()), at 512^2, seed 1, with exact AO.
 // "depth_map" (a depth image, d in [0, 1], 0 = top; CONVENTIONS §2) replaces the material: normals derived at
-// the render's depth scale, no colour (white), no AO. This is the verification scene's input (CONVENTIONS §7).
-// Relative paths are relative to the scene file.
+// the render's depth scale, no colour (white), no AO. This is the verification scene's input (CONVENTIONS
+// §7). Relative paths are relative to the scene file.
 #pragma once
 
 #include "strata/mesh/mesh.h"
@@ -44,9 +46,9 @@ namespace strata {
 inline constexpr const char* kMainJobMaterial = "shaped-fabric";
 
 struct Scene {
-    std::filesystem::path source;   // the scene file, for messages ("" for flags only)
-    std::string mesh = "teapot";    // built-in name or file path (resolved against the scene file)
-    int tessellation = 0;           // built-in tessellation, 0 = the built-in's default
+    std::filesystem::path source;  // the scene file, for messages ("" for flags only)
+    std::string mesh = "teapot";   // built-in name or file path (resolved against the scene file)
+    int tessellation = 0;          // built-in tessellation, 0 = the built-in's default
     std::string material = kMainJobMaterial;
     std::filesystem::path depthMap;  // replaces the material when set
     std::optional<Camera> camera;    // nullopt: framed automatically from the mesh bounds (frameCamera)
