@@ -7,6 +7,7 @@
 #include "strata/gl/context.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/mesh.h"
+#include "strata/relief/texture_set.h"
 
 #include <chrono>
 #include <cmath>
@@ -196,7 +197,19 @@ std::vector<RenderedScene> renderScene(const Scene& scene, const std::vector<Tec
     std::vector<fs::path> inputs;
     if (fs::exists(scene.mesh)) inputs.push_back(scene.mesh);
     if (!scene.depthMap.empty()) inputs.push_back(scene.depthMap);
-    if (fs::exists(scene.material) && scene.depthMap.empty()) inputs.push_back(scene.material);
+    if (fs::exists(scene.material) && scene.depthMap.empty()) {
+        // The material and every file it reads: a texture set's maps, a material JSON's layer files.
+        const fs::path material(scene.material);
+        const fs::path setDir = fs::is_directory(material)            ? material
+                                : material.filename() == kSidecarName ? material.parent_path()
+                                                                      : fs::path();
+        inputs.push_back(material);
+        if (!setDir.empty()) {
+            for (const auto& entry : fs::directory_iterator(setDir)) inputs.push_back(entry.path());
+        } else {
+            for (const auto& file : materialInputs(readMaterial(material))) inputs.push_back(file);
+        }
+    }
     if (!scene.source.empty()) inputs.push_back(scene.source);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     for (RenderedScene& result : results) {
