@@ -2,8 +2,7 @@
 //
 // Conditions: Mesa llvmpipe (OpenGL 4.5 core through EGL surfaceless, no GPU) on the 2 shared CPU cores of
 // the development machine; the numbers measure the CPU rasteriser, not a GPU. Relief technique, shaded
-// output with self-shadowing and depth correction, 1 sample per pixel (llvmpipe's 4x MSAA takes minutes
-// per frame on the teapot: docs/renderer.md), the `stone-bricks` pattern
+// output with self-shadowing and depth correction, 1 sample per pixel, the `stone-bricks` pattern
 // at 512^2 with S = 0.08, linear + binary steps 10 + 5 (the paper's shader) and 64 + 8 (the verification
 // setting), pictures of 256^2 and 512^2. Meshes: the unit quad filling most of the picture (camera 45
 // degrees from its normal) and the teapot (tessellation 16, 16384 triangles, tiling 4) seen from the side.
@@ -14,12 +13,18 @@
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
 #include "strata/relief/patterns.h"
+#include "strata/scene/camera.h"
+#include "strata/scene/render_settings.h"
+#include "strata/scene/scene.h"
+#include "strata/trace/heightfield_tracer.h"
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -94,6 +99,133 @@ BENCHMARK(BM_RenderRelief)
     ->ArgsProduct({{256, 512}, {64}, {8}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// The default scene of `strata render` (the main job: teapot, Shaped Fabric 1024^2, 1280x720, 4 samples =
+// 2 x 2 supersampling, 10 + 5 steps, shadows, AO) per technique. Arg: Technique. One frame is tens of seconds
+// on llvmpipe, so one iteration each.
+void BM_DefaultScene(benchmark::State& state) {
+    BenchScene& s = scene();
+    if (!s.failure.empty()) {
+        state.SkipWithError(s.failure.c_str());
+        return;
+    }
+    static const Scene defaults;
+    static const gl::GpuMesh mesh = gl::uploadMesh(loadSceneMesh(defaults));
+    static const ReliefTexture texture = loadSceneMaterial(defaults);
+    static const gl::GpuMaterial material = gl::uploadMaterial(texture, texture.depthScale);
+    static const Bounds bounds = meshBounds(loadSceneMesh(defaults));
+    gl::RenderRequest request;
+    request.objects.push_back({&mesh, glm::dmat4(1.0), &material, glm::dvec3(0.8)});
+    request.camera = frameCamera(bounds, 1280.0 / 720.0);
+    request.relief = defaults.relief;
+    request.relief.technique = static_cast<Technique>(state.range(0));
+    request.lighting = defaults.lighting;
+    request.picture = defaults.picture;
+    for (auto _ : state) {
+        Image image = s.renderer->render(request);
+        benchmark::DoNotOptimize(image);
+    }
+    state.SetLabel(std::string(toString(request.relief.technique)) + " 1280x720 x4");
+}
+BENCHMARK(BM_DefaultScene)->DenseRange(0, 3)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Texture fetches per pixel on the verification scene (CONVENTIONS §7), counted on the CPU by running the
+// shaders' search loops (shaders/relief/relief_search.glsl, relief.frag.glsl) on the same rays with the same
+// step rule (strata::adaptiveLinearSteps) and early exits, against the base-level bilinear height field:
+// unit quad, `stone-bricks` 256^2, S = 0.1, 256^2 pixels, camera 45 degrees from the normal at distance 1.6,
+// light at (1.5, 0, 1.5), shaded output with self-shadowing. Counted: every fetch of the packed relief
+// texture and of the colour texture. Args: Technique, linear steps, binary steps. Reported as counters
+// mean / p95 / max over the pixels that show the quad; the time is that of the CPU count, not of a render.
+void BM_FetchesPerPixel(benchmark::State& state) {
+    static const ReliefTexture texture = makePattern("stone-bricks", {256, 1, 0.1});
+    static const HeightFieldTracer tracer(texture.depth, 0.1);
+    const double S = 0.1;
+    const auto technique = static_cast<Technique>(state.range(0));
+    const int linear = static_cast<int>(state.range(1));
+    const int binary = static_cast<int>(state.range(2));
+    Camera camera;
+    const double a = 45.0 * 3.14159265358979 / 180.0;
+    camera.target = {0.5, 0.5, 0.0};
+    camera.eye = camera.target + 1.6 * glm::dvec3(0.0, -std::sin(a), std::cos(a));
+    camera.fovYDegrees = 40.0;
+    const glm::dvec3 light(1.5, 0.0, 1.5);
+    std::vector<int> counts;
+    for (auto _ : state) {
+        counts.clear();
+        for (int py = 0; py < 256; ++py) {
+            for (int px = 0; px < 256; ++px) {
+                const glm::dvec3 dir = pixelRayDirection(camera, 256, 256, px + 0.5, py + 0.5);
+                if (dir.z >= 0.0) continue;
+                const double t = -camera.eye.z / dir.z;
+                const glm::dvec2 entry(camera.eye.x + t * dir.x, camera.eye.y + t * dir.y);
+                if (entry.x < 0.0 || entry.x > 1.0 || entry.y < 0.0 || entry.y > 1.0) continue;
+                int fetches = technique == Technique::Texture ? 1 : 2;  // colour (+ the packed texel)
+                if (technique == Technique::Parallax) fetches += 1;     // d at the fragment's uv
+                if (technique == Technique::Relief) {
+                    // relief_search.glsl, reliefIntersect.
+                    const glm::dvec2 ds = glm::dvec2(dir.x, dir.y) * S / -dir.z;
+                    const int n = adaptiveLinearSteps(linear, -dir.z);
+                    double size = 1.0 / n, depth = 0.0, best = 1.0;
+                    for (int i = 0; i < n - 1; ++i) {
+                        depth += size;
+                        ++fetches;
+                        const glm::dvec2 uv = entry + ds * depth;
+                        if (depth >= tracer.depthAt(uv.x, uv.y)) {
+                            best = depth;
+                            break;
+                        }
+                    }
+                    depth = best;
+                    for (int i = 0; i < binary; ++i) {
+                        size *= 0.5;
+                        ++fetches;
+                        const glm::dvec2 uv = entry + ds * depth;
+                        if (depth >= tracer.depthAt(uv.x, uv.y)) {
+                            best = depth;
+                            depth -= 2.0 * size;
+                        }
+                        depth += size;
+                    }
+                    // reliefLit, with the shaded output's bias.
+                    const glm::dvec2 hitUv = entry + ds * best;
+                    const glm::dvec3 toLight = light - glm::dvec3(hitUv, -S * best);
+                    const double bracket = 1.0 / (n * std::exp2(std::max(binary - 1, 0)));
+                    const double end = best - bracket - 0.02;
+                    if (toLight.z > 0.0 && end > 0.0) {
+                        const int m = adaptiveLinearSteps(linear, toLight.z / glm::length(toLight));
+                        const glm::dvec2 up = glm::dvec2(toLight.x, toLight.y) * S / toLight.z;
+                        const glm::dvec2 lightEntry = hitUv + up * best;
+                        for (int i = 1; i <= m; ++i) {
+                            const double d = end / m * i;
+                            ++fetches;
+                            const glm::dvec2 uv = lightEntry - up * d;
+                            if (d > tracer.depthAt(uv.x, uv.y)) break;
+                        }
+                    }
+                }
+                counts.push_back(fetches);
+            }
+        }
+    }
+    std::sort(counts.begin(), counts.end());
+    double sum = 0.0;
+    for (int c : counts) sum += c;
+    state.counters["mean"] = sum / static_cast<double>(counts.size());
+    state.counters["p95"] = counts[counts.size() * 95 / 100];
+    state.counters["max"] = counts.back();
+    state.SetLabel(std::string(toString(technique)) +
+                   (technique == Technique::Relief
+                        ? " " + std::to_string(linear) + "+" + std::to_string(binary)
+                        : std::string()));
+}
+BENCHMARK(BM_FetchesPerPixel)
+    ->Args({0, 10, 5})
+    ->Args({1, 10, 5})
+    ->Args({2, 10, 5})
+    ->Args({3, 10, 5})
+    ->Args({3, 64, 8})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
