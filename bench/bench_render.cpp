@@ -160,10 +160,16 @@ void BM_FetchesPerPixel(benchmark::State& state) {
                 const glm::dvec2 entry(camera.eye.x + t * dir.x, camera.eye.y + t * dir.y);
                 if (entry.x < 0.0 || entry.x > 1.0 || entry.y < 0.0 || entry.y > 1.0) continue;
                 int fetches = technique == Technique::Texture ? 1 : 2;  // colour (+ the packed texel)
-                if (technique == Technique::Parallax) fetches += 1;     // d at the fragment's uv
+                glm::dvec2 hitUv = entry;  // the shaded point's uv and depth (relief.frag.glsl)
+                double hitDepth = 0.0;
+                double bracket = 0.0;
+                const glm::dvec2 ds = glm::dvec2(dir.x, dir.y) * S / -dir.z;
+                if (technique == Technique::Parallax) {
+                    ++fetches;  // d at the fragment's uv
+                    hitUv = entry + ds * tracer.depthAt(entry.x, entry.y);
+                }
                 if (technique == Technique::Relief) {
                     // relief_search.glsl, reliefIntersect.
-                    const glm::dvec2 ds = glm::dvec2(dir.x, dir.y) * S / -dir.z;
                     const int n = adaptiveLinearSteps(linear, -dir.z);
                     double size = 1.0 / n, depth = 0.0, best = 1.0;
                     for (int i = 0; i < n - 1; ++i) {
@@ -186,21 +192,26 @@ void BM_FetchesPerPixel(benchmark::State& state) {
                         }
                         depth += size;
                     }
-                    // reliefLit, with the shaded output's bias.
-                    const glm::dvec2 hitUv = entry + ds * best;
-                    const glm::dvec3 toLight = light - glm::dvec3(hitUv, -S * best);
-                    const double bracket = 1.0 / (n * std::exp2(std::max(binary - 1, 0)));
-                    const double end = best - bracket - 0.02;
-                    if (toLight.z > 0.0 && end > 0.0) {
-                        const int m = adaptiveLinearSteps(linear, toLight.z / glm::length(toLight));
-                        const glm::dvec2 up = glm::dvec2(toLight.x, toLight.y) * S / toLight.z;
-                        const glm::dvec2 lightEntry = hitUv + up * best;
-                        for (int i = 1; i <= m; ++i) {
-                            const double d = end / m * i;
-                            ++fetches;
-                            const glm::dvec2 uv = lightEntry - up * d;
-                            if (d > tracer.depthAt(uv.x, uv.y)) break;
-                        }
+                    hitUv = entry + ds * best;
+                    hitDepth = best;
+                    bracket = 1.0 / (n * std::exp2(std::max(binary - 1, 0)));
+                } else {
+                    // The other techniques test the relief point under the uv they shade.
+                    ++fetches;
+                    hitDepth = tracer.depthAt(hitUv.x, hitUv.y);
+                }
+                // reliefLit, with the shaded output's bias.
+                const glm::dvec3 toLight = light - glm::dvec3(hitUv, -S * hitDepth);
+                const double end = hitDepth - bracket - 0.02;
+                if (toLight.z > 0.0 && end > 0.0) {
+                    const int m = adaptiveLinearSteps(linear, toLight.z / glm::length(toLight));
+                    const glm::dvec2 up = glm::dvec2(toLight.x, toLight.y) * S / toLight.z;
+                    const glm::dvec2 lightEntry = hitUv + up * hitDepth;
+                    for (int i = 1; i <= m; ++i) {
+                        const double d = end / m * i;
+                        ++fetches;
+                        const glm::dvec2 uv = lightEntry - up * d;
+                        if (d > tracer.depthAt(uv.x, uv.y)) break;
                     }
                 }
                 counts.push_back(fetches);

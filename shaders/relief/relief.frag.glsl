@@ -7,8 +7,9 @@
 //   STRATA_PLAIN | STRATA_TECHNIQUE_TEXTURE | STRATA_TECHNIQUE_NORMAL | STRATA_TECHNIQUE_PARALLAX |
 //   STRATA_TECHNIQUE_RELIEF
 //   STRATA_OUTPUT_SHADED | STRATA_OUTPUT_UV | STRATA_OUTPUT_SHADOW | STRATA_OUTPUT_DEPTH
-// and optionally STRATA_SHADOWS (relief), STRATA_DEPTH_CORRECTION (relief, parallax), STRATA_AO (ambient
-// times the packed texture's AO) with STRATA_AO_PAPER (rescaled with aoRescalePaper).
+// and optionally STRATA_SHADOWS (the shaded and shadow outputs of every technique), STRATA_DEPTH_CORRECTION
+// (relief, parallax), STRATA_AO (ambient times the packed texture's AO) with STRATA_AO_PAPER (rescaled
+// with aoRescalePaper).
 //
 // Spaces. "Tile space" is the tangent frame (T, B, N) measured in tile units: x along T, y along B, z out
 // of the surface; the relief lies at z = -S d. One tile unit is tileLength.x / .y / .z world units along
@@ -135,18 +136,31 @@ void main() {
     gl_FragDepth = (gl_DepthRange.diff * (clip.z / clip.w) + gl_DepthRange.near + gl_DepthRange.far) * 0.5;
 #endif
 
-    // The light, in world space and in tile space, from the visible point (a point light).
+    // The light, in world space, from the visible point (a point light).
     vec3 toLightWorld = uLightPosition - hitWorld;
-    vec3 toLightTile = vec3(dot(toLightWorld, T) / tileLength.x, dot(toLightWorld, B) / tileLength.y,
-                            dot(toLightWorld, N) / tileLength.z);
     // A light at or below the tangent plane shadows (every technique).
-    bool lit = toLightTile.z > 0.0;
-#if defined(STRATA_TECHNIQUE_RELIEF) && defined(STRATA_SHADOWS)
-    // Sec. 3.1 and appendix RM_SHADOWS: the light ray through the hit, searched from the top down to it.
+    bool lit = dot(toLightWorld, N) > 0.0;
+#ifdef STRATA_SHADOWS
+    // Sec. 3.1 and appendix RM_SHADOWS: the light ray through a point of the relief, searched from the top
+    // down to it. Relief mapping tests its hit. Parallax, normal and texture mapping find no point on the
+    // relief, so they test the relief point under the coordinates they shade, (uv, d(uv)): the offset uv for
+    // parallax, the fragment's own for the other two. That point lies on the surface (no search window).
+    vec2 shadowUv = hitUv;
+    float shadowDepth = hitDepth;
+    float shadowBracket = bracket;
+    vec3 shadowWorld = hitWorld;
+#ifndef STRATA_TECHNIQUE_RELIEF
+    shadowDepth = reliefSample(hitUv).a;
+    shadowBracket = 0.0;
+    shadowWorld -= N * ((shadowDepth - hitDepth) * uDepthScale * tileLength.z);
+#endif
     if (lit && hit) {
-        float cosLight = dot(normalize(toLightWorld), N);
+        vec3 toLight = uLightPosition - shadowWorld;
+        vec3 toLightTile = vec3(dot(toLight, T) / tileLength.x, dot(toLight, B) / tileLength.y,
+                                dot(toLight, N) / tileLength.z);
+        float cosLight = dot(normalize(toLight), N);
         int lightSteps = clamp(reliefLinearSteps(uLinearSteps, cosLight), 1, 4 * uLinearSteps);
-        lit = reliefLit(hitUv, hitDepth, bracket, toLightTile, uDepthScale, lightSteps);
+        lit = reliefLit(shadowUv, shadowDepth, shadowBracket, toLightTile, uDepthScale, lightSteps);
     }
 #endif
 
@@ -170,9 +184,14 @@ void main() {
 #ifdef STRATA_PLAIN
     albedo = uPlainColor;
 #else
-    albedo = textureGrad(uColor, hitUv, gTileDx, gTileDy).rgb;
+    // The fetches take the hit's coordinates modulo 1 (the textures repeat; the footprint comes from the
+    // explicit derivatives, so nothing else changes). Near silhouettes s.z -> 0 and the searches' offsets
+    // reach thousands of tiles; llvmpipe's anisotropic filter stalls for seconds per fragment at such
+    // coordinates (a 1280x720 teapot took minutes instead of 2 s; docs/renderer.md).
+    vec2 shadeUv = hitUv - floor(hitUv);
+    albedo = textureGrad(uColor, shadeUv, gTileDx, gTileDy).rgb;
 #if !defined(STRATA_TECHNIQUE_TEXTURE)
-    vec4 texel = textureGrad(uReliefShade, hitUv, gTileDx, gTileDy);
+    vec4 texel = textureGrad(uReliefShade, shadeUv, gTileDx, gTileDy);
     // Tile-space normal to world: normals transform with the inverse of the tile -> world scaling.
     vec3 n = tileNormal(texel);
     normal = normalize(T * (n.x / tileLength.x) + B * (n.y / tileLength.y) + N * (n.z / tileLength.z));

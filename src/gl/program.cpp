@@ -277,11 +277,9 @@ ProgramVariant canonical(ProgramVariant variant) {
         variant.ao = AoMode::Off;
         return variant;
     }
-    const bool relief = variant.technique == Technique::Relief;
-    const bool displaced = relief || variant.technique == Technique::Parallax;
-    if (!relief || (variant.output != RenderOutput::Shaded && variant.output != RenderOutput::Shadow)) {
+    const bool displaced = variant.technique == Technique::Relief || variant.technique == Technique::Parallax;
+    if (variant.output != RenderOutput::Shaded && variant.output != RenderOutput::Shadow)
         variant.shadows = false;
-    }
     if (!displaced) variant.depthCorrection = false;
     if (variant.output != RenderOutput::Shaded || variant.technique == Technique::Texture)
         variant.ao = AoMode::Off;

@@ -74,10 +74,11 @@ TEST(ShaderLibrary, EmbedsTheShaderTree) {
 
 TEST(ProgramVariants, AreDistinctAndCanonical) {
     const std::vector<ProgramVariant> variants = allVariants();
-    // Shaded: texture 1 (no AO: it has no relief texture), normal 3 (AO modes), parallax 6 (x depth
-    // correction), relief 12 (x shadows); uv and depth 6 each (relief and parallax x depth correction);
-    // shadow 8 (relief x shadows); plain 4 (one per output).
-    EXPECT_EQ(variants.size(), 46u);
+    // Shaded, x shadows for every technique: texture 2 (no AO: it reads no relief texture for shading),
+    // normal 6 (x AO modes), parallax 12 and relief 12 (x AO modes x depth correction); uv and depth 6 each
+    // (texture, normal, and parallax and relief x depth correction); shadow 12 (the same 6 x shadows);
+    // plain 4 (one per output).
+    EXPECT_EQ(variants.size(), 60u);
     std::set<std::string> names;
     for (const ProgramVariant& variant : variants) {
         EXPECT_EQ(canonical(variant), variant);
@@ -128,7 +129,7 @@ TEST(ProgramVariants, PassGlslangValidator) {
     const std::filesystem::path log = dir / "glslang.log";
     const int status = std::system((command + " > '" + log.string() + "' 2>&1").c_str());
     const std::string failures = status == 0 ? std::string() : readTextFile(log);
-    EXPECT_EQ(checked, 92);
+    EXPECT_EQ(checked, 120);
     EXPECT_TRUE(failures.empty()) << failures;
 }
 

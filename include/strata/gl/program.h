@@ -97,7 +97,7 @@ struct ProgramVariant {
     Technique technique = Technique::Relief;
     RenderOutput output = RenderOutput::Shaded;
     bool plain = false;            // no material: Blinn-Phong of a uniform colour (the technique is ignored)
-    bool shadows = false;          // relief self-shadowing (relief; shaded and shadow outputs)
+    bool shadows = false;          // self-shadowing, the light-ray test (shaded and shadow outputs)
     bool depthCorrection = false;  // gl_FragDepth at the relief point (relief, parallax)
     AoMode ao = AoMode::Off;       // shaded output only
 

@@ -47,7 +47,7 @@ struct ReliefSettings {
     std::optional<double> depthScale;
     // Tiles per unit of mesh uv (tile coordinates = tiling * uv). > 0, default 1.
     double tiling = 1.0;
-    bool selfShadow = true;       // the paper's light-ray test (relief only; other techniques are unshadowed)
+    bool selfShadow = true;       // the paper's light-ray test, every technique (docs/renderer.md)
     bool depthCorrection = true;  // write gl_FragDepth of the relief hit (relief and parallax)
     bool ao = true;               // texture-space AO multiplies the ambient term (if the material has AO)
     AoRescale aoRescale = AoRescale::Exact;
