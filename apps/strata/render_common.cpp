@@ -91,7 +91,10 @@ void addSceneFlags(CLI::App& command, SceneFlags& f) {
     command.add_option("--up", f.up, "Camera up X,Y,Z (default 0,0,1)");
     command.add_option("--fov", f.fov, "Vertical field of view in degrees");
     command.add_option("--size", f.size, "Picture size WxH in pixels (default 1280x720)");
-    command.add_option("--samples", f.samples, "Samples per pixel of shaded pictures: a k x k supersampling grid, k = round(sqrt(N)) (1 = none)")
+    command
+        .add_option(
+            "--samples", f.samples,
+            "Samples per pixel of shaded pictures: a k x k supersampling grid, k = round(sqrt(N)) (1 = none)")
         ->check(CLI::Range(1, 16));
     command.add_option("--light", f.light, "Point light position X,Y,Z");
     command
