@@ -1,6 +1,6 @@
 // strata render [SCENE.json] [-o OUT.png] [scene flags: --mesh --material --depth-map --technique ...]
 // With no arguments: the main job, the teapot with the Shaped Fabric meta-relief (the meta-relief paper's
-// Fig. 1(b)) at 1280x720 with 4x MSAA, written to out/teapot.png.
+// Fig. 1(b)) at 1280x720, 2 x 2 supersampled, written to out/teapot.png.
 // Shaded pictures are 8-bit sRGB PNGs (16-bit with --bit-depth 16, and always for a --depth-map render);
 // uv, shadow and depth are 16-bit PNGs as CONVENTIONS §7 says.
 #include "cli_common.h"

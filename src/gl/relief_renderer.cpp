@@ -321,35 +321,28 @@ GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale) {
 
 namespace {
 
-// Framebuffers for one picture size and kind, kept between renders.
+// The framebuffer for one picture size and format, kept between renders (single-sample: render()
+// supersamples, see there).
 struct Target {
     int width = 0;
     int height = 0;
-    int samples = 0;
     GLenum format = 0;
-    GLuint framebuffer = 0;         // drawn into (multisampled when samples > 1)
-    GLuint color = 0;               // renderbuffer
-    GLuint depth = 0;               // renderbuffer
-    GLuint resolveFramebuffer = 0;  // single-sample copy (samples > 1 only)
-    GLuint resolveColor = 0;
+    GLuint framebuffer = 0;
+    GLuint color = 0;  // renderbuffer
+    GLuint depth = 0;  // renderbuffer
 
     void release() {
-        const GLuint framebuffers[] = {framebuffer, resolveFramebuffer};
-        const GLuint renderbuffers[] = {color, depth, resolveColor};
-        glDeleteFramebuffers(2, framebuffers);
-        glDeleteRenderbuffers(3, renderbuffers);
+        glDeleteFramebuffers(1, &framebuffer);
+        const GLuint renderbuffers[] = {color, depth};
+        glDeleteRenderbuffers(2, renderbuffers);
         *this = Target();
     }
 };
 
-GLuint makeRenderbuffer(GLenum format, int samples, int width, int height) {
+GLuint makeRenderbuffer(GLenum format, int width, int height) {
     GLuint renderbuffer = 0;
     glCreateRenderbuffers(1, &renderbuffer);
-    if (samples > 1) {
-        glNamedRenderbufferStorageMultisample(renderbuffer, samples, format, width, height);
-    } else {
-        glNamedRenderbufferStorage(renderbuffer, format, width, height);
-    }
+    glNamedRenderbufferStorage(renderbuffer, format, width, height);
     return renderbuffer;
 }
 
@@ -442,31 +435,23 @@ struct ReliefRenderer::Impl {
         return it->second;
     }
 
-    void ensureTarget(int width, int height, int samples, GLenum format) {
+    void ensureTarget(int width, int height, GLenum format) {
         if (target.framebuffer != 0 && target.width == width && target.height == height &&
-            target.samples == samples && target.format == format) {
+            target.format == format) {
             return;
         }
         target.release();
         target.width = width;
         target.height = height;
-        target.samples = samples;
         target.format = format;
-        target.color = makeRenderbuffer(format, samples, width, height);
-        target.depth = makeRenderbuffer(GL_DEPTH_COMPONENT32F, samples, width, height);
+        target.color = makeRenderbuffer(format, width, height);
+        target.depth = makeRenderbuffer(GL_DEPTH_COMPONENT32F, width, height);
         glCreateFramebuffers(1, &target.framebuffer);
         glNamedFramebufferRenderbuffer(target.framebuffer, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
                                        target.color);
         glNamedFramebufferRenderbuffer(target.framebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
                                        target.depth);
         checkComplete(target.framebuffer, "render");
-        if (samples > 1) {
-            target.resolveColor = makeRenderbuffer(format, 1, width, height);
-            glCreateFramebuffers(1, &target.resolveFramebuffer);
-            glNamedFramebufferRenderbuffer(target.resolveFramebuffer, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
-                                           target.resolveColor);
-            checkComplete(target.resolveFramebuffer, "resolve");
-        }
         checkGl("ReliefRenderer: creating framebuffers");
     }
 
@@ -646,8 +631,7 @@ Image ReliefRenderer::render(const RenderRequest& request) {
     // Shaded: supersampled on a k x k grid per pixel (k = round(sqrt(samples))), in linear half-float colour,
     // box-filtered in linear and encoded to sRGB here. Supersampling rather than MSAA, because MSAA shades
     // once per pixel: it smooths the polygons' edges but not what relief mapping draws inside them (the
-    // relief's own silhouettes, shadow edges, fine texture). It also avoided a llvmpipe slow path: 4x MSAA
-    // made the relief search on the teapot 6-20x slower than four times the pixels without it.
+    // relief's own silhouettes, shadow edges, fine texture).
     // Debug outputs: 32-bit float (uv needs 16 bits of precision), one sample (CONVENTIONS §7).
     const int factor = shaded ? supersamplingFactor(picture) : 1;
     const int outWidth = picture.width;
@@ -655,7 +639,7 @@ Image ReliefRenderer::render(const RenderRequest& request) {
     const int width = outWidth * factor;
     const int height = outHeight * factor;
     BindingGuard guard;
-    mImpl->ensureTarget(width, height, 1, shaded ? GL_RGBA16F : GL_RGBA32F);
+    mImpl->ensureTarget(width, height, shaded ? GL_RGBA16F : GL_RGBA32F);
     const Target& target = mImpl->target;
 
     glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);

@@ -126,7 +126,8 @@ public:
     ReliefRenderer& operator=(const ReliefRenderer&) = delete;
 
     // Renders into framebuffers of its own and reads the picture back. Shaded: 3 channels, sRGB-encoded
-    // [0, 1], picture.samples MSAA (clamped to GL_MAX_SAMPLES). Uv: 3ch (u, v, hit). Shadow, Depth: 1ch.
+    // [0, 1], supersampled on a k x k grid per pixel (k = round(sqrt(picture.samples))). Uv: 3ch (u, v,
+    // hit). Shadow, Depth: 1ch.
     // The debug outputs are 1 sample, float, not tone mapped (CONVENTIONS §7). Row 0 = top.
     // Throws Error(InvalidInput) for invalid settings or camera, or an object without a mesh;
     // Error(Runtime) for a GL error or a shader that fails to build.
