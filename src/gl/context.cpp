@@ -99,7 +99,7 @@ EGLDisplay openDisplay(std::string& platform) {
 
 }  // namespace
 
-std::unique_ptr<HeadlessContext> HeadlessContext::create() {
+std::unique_ptr<HeadlessContext> HeadlessContext::create(GlDebug debugMode) {
     std::unique_ptr<HeadlessContext> result(new HeadlessContext());
     EGLDisplay display = openDisplay(result->mPlatform);
     result->mDisplay = display;  // the destructor terminates it from here on
@@ -120,10 +120,11 @@ std::unique_ptr<HeadlessContext> HeadlessContext::create() {
         }
     }
 #ifdef NDEBUG
-    const bool debug = false;
+    constexpr bool kDebugBuild = false;
 #else
-    const bool debug = true;
+    constexpr bool kDebugBuild = true;
 #endif
+    const bool debug = debugMode == GlDebug::On || (debugMode == GlDebug::BuildDefault && kDebugBuild);
     const EGLint contextAttributes[] = {EGL_CONTEXT_MAJOR_VERSION,
                                         4,
                                         EGL_CONTEXT_MINOR_VERSION,

@@ -9,8 +9,8 @@
 //   3. eglGetDisplay(EGL_DEFAULT_DISPLAY).
 // The context is configless (EGL_KHR_no_config_context; otherwise the first OpenGL-capable config) and made
 // current with no surface (EGL_KHR_surfaceless_context): render into framebuffer objects.
-// Debug builds (NDEBUG undefined) ask for a debug context and install a GL_KHR_debug callback that records
-// every message of type error; checkGl() (gl_error.h) then throws them.
+// A debug context (by default in debug builds, NDEBUG undefined) gets a GL_KHR_debug callback that records
+// every message of type error; checkGl() (gl_error.h) then throws them with the driver's words.
 #pragma once
 
 #include <memory>
@@ -18,11 +18,18 @@
 
 namespace strata::gl {
 
+// Whether to ask for a debug context.
+enum class GlDebug {
+    BuildDefault,  // in debug builds only
+    On,
+    Off,
+};
+
 class HeadlessContext {
 public:
     // Creates the context and makes it current on the calling thread. Throws Error(Unsupported) when there
     // is no usable EGL display, no OpenGL API, or no 4.5 core context, with the EGL error and a hint.
-    static std::unique_ptr<HeadlessContext> create();
+    static std::unique_ptr<HeadlessContext> create(GlDebug debug = GlDebug::BuildDefault);
 
     ~HeadlessContext();
     HeadlessContext(const HeadlessContext&) = delete;

@@ -13,7 +13,7 @@ void checkGl(const char* what);
 // Installs a GL_KHR_debug callback on the current context that records every message of type
 // GL_DEBUG_TYPE_ERROR (and prints nothing); checkGl() throws the recorded messages. Synchronous output, so
 // the message belongs to the call that caused it. No effect (returns false) where the context has no
-// debug output. HeadlessContext::create() calls it in debug builds; the viewer may call it too.
+// debug output. HeadlessContext::create() calls it for a debug context; the viewer may call it too.
 bool installDebugOutput();
 
 }  // namespace strata::gl
