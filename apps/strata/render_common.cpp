@@ -7,6 +7,7 @@
 #include "strata/gl/context.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/mesh.h"
+#include "strata/occlusion/ambient_occlusion.h"
 #include "strata/relief/texture_set.h"
 
 #include <chrono>
@@ -41,6 +42,7 @@ std::string describe(const Scene& scene, double depthScale) {
     const ReliefSettings& r = scene.relief;
     out << fs::path(scene.mesh).filename().string() << ", " << toString(r.technique);
     if (r.technique == Technique::Relief) out << " " << r.linearSteps << "+" << r.binarySteps;
+    if (scene.meta == MetaPath::Live) out << ", live meta-relief";
     out << ", S = " << depthScale << ", tiling " << r.tiling << ", " << scene.picture.width << "x"
         << scene.picture.height;
     if (scene.picture.output != RenderOutput::Shaded)
@@ -86,6 +88,10 @@ void addSceneFlags(CLI::App& command, SceneFlags& f) {
         ->check(CLI::IsMember({"on", "off"}));
     command.add_option("--ao-rescale", f.aoRescale, "AO at another depth scale: exact, paper (Eq. 6) or off")
         ->check(CLI::IsMember({"off", "paper", "exact"}));
+    command
+        .add_option("--meta", f.meta,
+                    "A material JSON's layers: baked (composed on load) or live (combined per fragment)")
+        ->check(CLI::IsMember({"baked", "live"}));
     command.add_option("--eye", f.eye, "Camera position X,Y,Z (default: framed from the mesh's bounds)");
     command.add_option("--target", f.target, "Camera target X,Y,Z");
     command.add_option("--up", f.up, "Camera up X,Y,Z (default 0,0,1)");
@@ -118,6 +124,7 @@ Scene buildScene(const SceneFlags& f) {
     if (!f.depthCorrection.empty()) r.depthCorrection = parseOnOff(f.depthCorrection, "--depth-correction");
     if (!f.ao.empty()) r.ao = parseOnOff(f.ao, "--ao");
     if (!f.aoRescale.empty()) r.aoRescale = parseAoRescale(f.aoRescale);
+    if (!f.meta.empty()) scene.meta = parseMetaPath(f.meta);
 
     const bool cameraFlags = !f.eye.empty() || !f.target.empty() || !f.up.empty() || f.fov;
     if (cameraFlags) {
@@ -160,20 +167,39 @@ std::vector<RenderedScene> renderScene(const Scene& scene, const std::vector<Tec
     progress("mesh " + scene.mesh);
     const Mesh mesh = loadSceneMesh(scene);
     std::vector<std::string> notes;
-    ReliefTexture texture = loadSceneMaterial(scene, &notes, [](const std::string& m) { progress(m); });
-    for (const auto& text : notes) note(text);
-
-    const double depthScale = renderDepthScale(scene, texture);
-    double aoDepthScale = texture.depthScale;
-    if (scene.relief.ao && !texture.ao.empty()) {
-        if (scene.relief.aoRescale == AoRescale::Exact && depthScale != texture.depthScale)
-            progress("ambient occlusion at S = " + formatNumber(depthScale) + " (exact rescale)");
-        texture.ao = aoForRender(texture, depthScale, scene.relief.aoRescale, &aoDepthScale);
-    }
-
     gl::ReliefRenderer renderer;
     const gl::GpuMesh gpuMesh = gl::uploadMesh(mesh);
-    const gl::GpuMaterial gpuMaterial = gl::uploadMaterial(texture, aoDepthScale);
+    gl::GpuMaterial gpuMaterial;
+    double depthScale = 0.0;
+    if (scene.meta == MetaPath::Live) {
+        // The layers go to the GPU as they are; only the exact AO needs the composed depth.
+        const Material material = loadSceneLayeredMaterial(scene);
+        progress("layers of " + material.source.string());
+        const std::vector<CompositionLayer> layers = loadLayers(material, &notes);
+        for (const auto& text : notes) note(text);
+        depthScale = scene.relief.depthScale.value_or(material.compose.depthScale);
+        const std::optional<MetaAoMode> ao = scene.relief.ao ? material.ao : std::nullopt;
+        gpuMaterial = gl::uploadLiveMaterial(layers, material.compose, ao, material.aoParams);
+        if (ao == MetaAoMode::Exact) {
+            AoParams params = material.aoParams;
+            params.depthScale =
+                scene.relief.aoRescale == AoRescale::Exact ? depthScale : material.compose.depthScale;
+            progress("ambient occlusion of the composed depth at S = " + formatNumber(params.depthScale));
+            const Composition composition = compose(layers, material.compose);
+            gpuMaterial.setComposedAo(bakeAo(composition.texture.depth, params), params.depthScale);
+        }
+    } else {
+        ReliefTexture texture = loadSceneMaterial(scene, &notes, [](const std::string& m) { progress(m); });
+        for (const auto& text : notes) note(text);
+        depthScale = renderDepthScale(scene, texture);
+        double aoDepthScale = texture.depthScale;
+        if (scene.relief.ao && !texture.ao.empty()) {
+            if (scene.relief.aoRescale == AoRescale::Exact && depthScale != texture.depthScale)
+                progress("ambient occlusion at S = " + formatNumber(depthScale) + " (exact rescale)");
+            texture.ao = aoForRender(texture, depthScale, scene.relief.aoRescale, &aoDepthScale);
+        }
+        gpuMaterial = gl::uploadMaterial(texture, aoDepthScale);
+    }
 
     gl::RenderRequest request;
     request.objects.push_back({&gpuMesh, glm::dmat4(1.0), &gpuMaterial, glm::dvec3(0.8)});

@@ -29,6 +29,7 @@ struct SceneFlags {
     std::string depthCorrection;  // on | off
     std::string ao;               // on | off
     std::string aoRescale;
+    std::string meta;             // baked | live
     std::string eye, target, up;  // "X,Y,Z"
     std::optional<double> fov;
     std::string size;  // "WxH"

@@ -9,7 +9,7 @@
 //   STRATA_OUTPUT_SHADED | STRATA_OUTPUT_UV | STRATA_OUTPUT_SHADOW | STRATA_OUTPUT_DEPTH
 // and optionally STRATA_SHADOWS (the shaded and shadow outputs of every technique), STRATA_DEPTH_CORRECTION
 // (relief, parallax), STRATA_AO (ambient times the packed texture's AO) with STRATA_AO_PAPER (rescaled
-// with aoRescalePaper).
+// with aoRescalePaper), STRATA_META_LIVE (a live meta-relief's layers, relief_search.glsl, metaShade).
 //
 // Spaces. "Tile space" is the tangent frame (T, B, N) measured in tile units: x along T, y along B, z out
 // of the surface; the relief lies at z = -S d. One tile unit is tileLength.x / .y / .z world units along
@@ -47,6 +47,7 @@ uniform float uShininess;
 uniform float uAoScale;        // S_render / S_ao, for STRATA_AO_PAPER
 uniform vec3 uPlainColor;      // linear albedo of a plain surface
 uniform bool uEncodeSrgb;      // shaded: write sRGB-encoded values (draw()) instead of linear (render())
+uniform float uColorTiling;    // colour repeats per tile (a live meta-relief's colour layer's t; else 1)
 
 #ifdef STRATA_DEPTH_CORRECTION
 // The relief point is never nearer than the polygon (t >= 0 along the view ray), so depth only grows: the
@@ -71,6 +72,63 @@ vec3 tileNormal(vec4 texel) {
     float z = sqrt(max(1.0 - dot(xy, xy), 0.0));
     return normalize(vec3(xy * uNormalScale, z));
 }
+
+#ifdef STRATA_META_LIVE
+uniform float uLayerNormalWeight[kMaxLayers];  // w_n,i / sum_j w_n,j
+uniform float uLayerAoScale[kMaxLayers];       // S_i now / S_i baked (meta_relief_ao.h), for aoRescalePaper
+uniform bool uMetaConsistent;  // normals of the composed depth (NormalMode::Consistent), else paper Eq. 1
+uniform float uLayerNormalScale[kMaxLayers];  // consistent: the S_L of each layer's normals (below)
+uniform int uMetaAo;              // 0 none, 1 multiply, 2 min (the layers' AO), 3 the composed AO map
+layout(binding = 11) uniform sampler2D uComposedAo;  // R: AO of the composed depth (uMetaAo 3)
+
+// The shaded normal (tile space, at the render's S) and AO of a live meta-relief at tile coordinates uv.
+//   paper (Eq. 1): n = normalize(sum_i w_n,i n_i(t_i uv)), then rescaled to the render's S like a baked
+//     map (tileNormal), the layers' normal maps being valid at the material's S;
+//   consistent: the layers hold normalize(S_L g_i, 1), g_i = grad d_i (CONVENTIONS §3, S_L =
+//     uLayerNormalScale[i], small enough that the normals are nearly linear in g: uploadLiveMaterial), so
+//     g_i = n.xy / (n.z S_L); the composed depth's gradient is, by the chain rule,
+//     G = sum_i (w_d,i / W) t_i g_i(t_i uv), and n = normalize(S G, 1) at the render's S exactly.
+// AO: each layer's B channel is its AO baked at S_i = S (w_d,i / W) t_i; rescaled per fragment to the
+// current weights by Eq. 4-6 and combined by product or minimum, as the paper does; or the composed AO map.
+void metaShade(vec2 uv, out vec3 n, out float ao) {
+    vec3 sum = vec3(0.0);
+    vec2 gradient = vec2(0.0);
+    float aoProduct = 1.0;
+    float aoMin = 1.0;
+    for (int i = 0; i < uLayerCount; ++i) {
+        float t = uLayerTiling[i];
+        vec2 layerUv = uv * t;
+        vec4 texel = textureGrad(uLayers[i], layerUv - floor(layerUv), gTileDx * t, gTileDy * t);
+        vec2 xy = texel.rg * 2.0 - 1.0;
+        vec3 ni = vec3(xy, sqrt(max(1.0 - dot(xy, xy), 0.0)));
+        sum += uLayerNormalWeight[i] * ni;
+        gradient += uLayerDepthWeight[i] * t * ni.xy / (max(ni.z, 1e-4) * uLayerNormalScale[i]);
+        if (uLayerDepthWeight[i] > 0.0) {
+            float layerAo = aoRescalePaper(texel.b, uLayerAoScale[i]);
+            aoProduct *= layerAo;
+            aoMin = min(aoMin, layerAo);
+        }
+    }
+    if (uMetaConsistent) {
+        n = normalize(vec3(uDepthScale * gradient, 1.0));
+    } else {
+        vec3 m = normalize(sum);
+        n = normalize(vec3(m.xy * uNormalScale, m.z));
+    }
+    ao = 1.0;
+#ifdef STRATA_AO
+    if (uMetaAo == 1) ao = aoProduct;
+    if (uMetaAo == 2) ao = aoMin;
+    if (uMetaAo == 3) {
+        vec2 wrapped = uv - floor(uv);
+        ao = textureGrad(uComposedAo, wrapped, gTileDx, gTileDy).r;
+#ifdef STRATA_AO_PAPER
+        ao = aoRescalePaper(ao, uAoScale);
+#endif
+    }
+#endif
+}
+#endif
 
 void main() {
     vec3 N = normalize(vIn.normal);
@@ -114,7 +172,7 @@ void main() {
     // towards the eye this is the usual offset -(d S) V.xy / V.z. One fetch, no search: right only where d
     // varies slowly.
     if (entering) {
-        hitDepth = reliefSample(tile).a;
+        hitDepth = reliefDepth(tile);
         hitUv = tile + s.xy * (hitDepth * uDepthScale / s.z);
     } else {
         hit = false;
@@ -150,7 +208,7 @@ void main() {
     float shadowBracket = bracket;
     vec3 shadowWorld = hitWorld;
 #ifndef STRATA_TECHNIQUE_RELIEF
-    shadowDepth = reliefSample(hitUv).a;
+    shadowDepth = reliefDepth(hitUv);
     shadowBracket = 0.0;
     shadowWorld -= N * ((shadowDepth - hitDepth) * uDepthScale * tileLength.z);
 #endif
@@ -188,13 +246,17 @@ void main() {
     // explicit derivatives, so nothing else changes). Near silhouettes s.z -> 0 and the searches' offsets
     // reach thousands of tiles; llvmpipe's anisotropic filter stalls for seconds per fragment at such
     // coordinates (a 1280x720 teapot took minutes instead of 2 s; docs/renderer.md).
-    vec2 shadeUv = hitUv - floor(hitUv);
-    albedo = textureGrad(uColor, shadeUv, gTileDx, gTileDy).rgb;
+    // The colour map repeats uColorTiling times per tile (a live meta-relief's colour layer; 1 otherwise).
+    vec2 colorUv = hitUv * uColorTiling;
+    albedo = textureGrad(uColor, colorUv - floor(colorUv), gTileDx * uColorTiling, gTileDy * uColorTiling).rgb;
 #if !defined(STRATA_TECHNIQUE_TEXTURE)
+#ifdef STRATA_META_LIVE
+    vec3 n;
+    metaShade(hitUv, n, ao);
+#else
+    vec2 shadeUv = hitUv - floor(hitUv);
     vec4 texel = textureGrad(uReliefShade, shadeUv, gTileDx, gTileDy);
-    // Tile-space normal to world: normals transform with the inverse of the tile -> world scaling.
     vec3 n = tileNormal(texel);
-    normal = normalize(T * (n.x / tileLength.x) + B * (n.y / tileLength.y) + N * (n.z / tileLength.z));
 #ifdef STRATA_AO
     // Texture-space AO (Limberger et al. 2015, Sec. IV), in the packed texture's B channel; with
     // STRATA_AO_PAPER rescaled to the render's depth scale by Eq. 4-6 (shaders/shared/ao_rescale.h).
@@ -203,6 +265,9 @@ void main() {
     ao = aoRescalePaper(ao, uAoScale);
 #endif
 #endif
+#endif
+    // Tile-space normal to world: normals transform with the inverse of the tile -> world scaling.
+    normal = normalize(T * (n.x / tileLength.x) + B * (n.y / tileLength.y) + N * (n.z / tileLength.z));
 #endif
 #endif
     vec3 L = normalize(toLightWorld);

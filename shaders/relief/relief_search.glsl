@@ -29,6 +29,41 @@ vec4 reliefSample(vec2 uv) {
 #endif
 }
 
+#ifdef STRATA_META_LIVE
+// Live meta-relief (Limberger et al. 2015, Sec. III-A): up to kMaxLayers layers, each its own packed texture
+// (CONVENTIONS §5 layout) at its own resolution and tiling t_i, combined per fragment. The depth the searches
+// see is paper Eq. 2, D(uv) = sum_i (w_d,i / W) d_i(t_i uv), W = sum_j w_d,j; the weights arrive normalised.
+// Nothing is baked, so fractional tilings have no seam and a weight change needs no re-bake.
+const int kMaxLayers = 8;
+layout(binding = 3) uniform sampler2D uLayers[kMaxLayers];
+uniform int uLayerCount;
+uniform float uLayerTiling[kMaxLayers];
+uniform float uLayerDepthWeight[kMaxLayers];  // w_d,i / W
+
+// Layer i at tile coordinates uv: the layer repeats t_i times per tile, so its footprint is t_i times larger.
+vec4 layerSample(int i, vec2 uv) {
+    float t = uLayerTiling[i];
+#ifdef STRATA_OUTPUT_SHADED
+    return textureGrad(uLayers[i], uv * t, gTileDx * t, gTileDy * t);
+#else
+    return textureLod(uLayers[i], uv * t, 0.0);
+#endif
+}
+#endif
+
+// The depth d at tile coordinates uv: the packed texture's alpha, or the live layers' Eq. 2.
+float reliefDepth(vec2 uv) {
+#ifdef STRATA_META_LIVE
+    float depth = 0.0;
+    for (int i = 0; i < uLayerCount; ++i) {
+        if (uLayerDepthWeight[i] > 0.0) depth += uLayerDepthWeight[i] * layerSample(i, uv).a;
+    }
+    return depth;
+#else
+    return reliefSample(uv).a;
+#endif
+}
+
 // Appendix, ray_intersect_rm: the depth t in [0, 1] of the first intersection of the ray (dp, ds) with
 // the height field. `linearSteps` (>= 1) is the loop bound of the linear search (the appendix's constant
 // linear_search_steps, here reliefLinearSteps(N, cos theta) per fragment), `binarySteps` that of the
@@ -55,7 +90,7 @@ float reliefIntersect(vec2 dp, vec2 ds, int linearSteps, int binarySteps) {
     float bestDepth = 1.0;                  // best match found (starts with the last position, 1.0)
     for (int i = 0; i < linearSteps - 1; ++i) {
         depth += size;
-        if (depth >= reliefSample(dp + ds * depth).a) {
+        if (depth >= reliefDepth(dp + ds * depth)) {
             bestDepth = depth;
             break;
         }
@@ -63,7 +98,7 @@ float reliefIntersect(vec2 dp, vec2 ds, int linearSteps, int binarySteps) {
     depth = bestDepth;
     for (int i = 0; i < binarySteps; ++i) {
         size *= 0.5;
-        if (depth >= reliefSample(dp + ds * depth).a) {
+        if (depth >= reliefDepth(dp + ds * depth)) {
             bestDepth = depth;
             depth -= 2.0 * size;
         }
@@ -105,7 +140,7 @@ bool reliefLit(vec2 hitUv, float hitDepth, float bracket, vec3 toLight, float de
     for (int i = 1; i <= linearSteps; ++i) {
         float depth = size * float(i);
         // Strictly inside: a light ray that only touches the surface (e.g. along a flat top) is not blocked.
-        if (depth > reliefSample(entry - up * depth).a) return false;
+        if (depth > reliefDepth(entry - up * depth)) return false;
     }
     return true;
 }

@@ -275,6 +275,7 @@ ProgramVariant canonical(ProgramVariant variant) {
         variant.shadows = false;
         variant.depthCorrection = false;
         variant.ao = AoMode::Off;
+        variant.live = false;
         return variant;
     }
     const bool displaced = variant.technique == Technique::Relief || variant.technique == Technique::Parallax;
@@ -283,6 +284,11 @@ ProgramVariant canonical(ProgramVariant variant) {
     if (!displaced) variant.depthCorrection = false;
     if (variant.output != RenderOutput::Shaded || variant.technique == Technique::Texture)
         variant.ao = AoMode::Off;
+    // Live layers matter where the program reads the relief: a search, the shadow test, or normal mapping.
+    const bool readsRelief =
+        displaced || variant.shadows ||
+        (variant.technique == Technique::Normal && variant.output == RenderOutput::Shaded);
+    if (!readsRelief) variant.live = false;
     return variant;
 }
 
@@ -296,10 +302,12 @@ std::vector<ProgramVariant> allVariants() {
                 for (const bool shadows : {false, true}) {
                     for (const bool depthCorrection : {false, true}) {
                         for (const AoMode ao : {AoMode::Off, AoMode::Baked, AoMode::Paper}) {
-                            const ProgramVariant variant =
-                                canonical({technique, output, plain, shadows, depthCorrection, ao});
-                            if (std::find(variants.begin(), variants.end(), variant) == variants.end()) {
-                                variants.push_back(variant);
+                            for (const bool live : {false, true}) {
+                                const ProgramVariant variant =
+                                    canonical({technique, output, plain, shadows, depthCorrection, ao, live});
+                                if (std::find(variants.begin(), variants.end(), variant) == variants.end()) {
+                                    variants.push_back(variant);
+                                }
                             }
                         }
                     }
@@ -317,6 +325,7 @@ std::string variantName(const ProgramVariant& variant) {
     if (variant.depthCorrection) name += "-depthcorrect";
     if (variant.ao == AoMode::Baked) name += "-ao";
     if (variant.ao == AoMode::Paper) name += "-aopaper";
+    if (variant.live) name += "-live";
     return name;
 }
 
@@ -358,6 +367,7 @@ std::vector<std::string> variantDefines(const ProgramVariant& variant) {
     if (variant.depthCorrection) defines.emplace_back("STRATA_DEPTH_CORRECTION");
     if (variant.ao != AoMode::Off) defines.emplace_back("STRATA_AO");
     if (variant.ao == AoMode::Paper) defines.emplace_back("STRATA_AO_PAPER");
+    if (variant.live) defines.emplace_back("STRATA_META_LIVE");
     return defines;
 }
 

@@ -4,6 +4,7 @@
 #include "strata/core/error.h"
 #include "strata/gl/gl_error.h"
 #include "strata/gl/program.h"
+#include "strata/occlusion/ambient_occlusion.h"
 #include "strata/relief/texture_set.h"
 
 #include <epoxy/gl.h>
@@ -229,26 +230,36 @@ GpuMesh uploadMesh(const Mesh& mesh) {
 // ---------------------------------------------------------------------------------------------------------
 // GpuMaterial
 
-GpuMaterial::~GpuMaterial() {
+void GpuMaterial::release() {
     if (mRelief != 0) glDeleteTextures(1, &mRelief);
     if (mColor != 0) glDeleteTextures(1, &mColor);
+    if (mComposedAo != 0) glDeleteTextures(1, &mComposedAo);
+    for (const GpuLayer& layer : mLayers) {
+        glDeleteTextures(1, &layer.texture);
+        if (layer.color != 0) glDeleteTextures(1, &layer.color);
+    }
+    mRelief = mColor = mComposedAo = 0;
+    mLayers.clear();
 }
 
-GpuMaterial::GpuMaterial(GpuMaterial&& other) noexcept
-    : mRelief(std::exchange(other.mRelief, 0)),
-      mColor(std::exchange(other.mColor, 0)),
-      mDepthScale(other.mDepthScale),
-      mAoDepthScale(other.mAoDepthScale),
-      mHasAo(other.mHasAo),
-      mHasColor(other.mHasColor),
-      mWidth(other.mWidth),
-      mHeight(other.mHeight) {}
+GpuMaterial::~GpuMaterial() {
+    release();
+}
+
+GpuMaterial::GpuMaterial(GpuMaterial&& other) noexcept {
+    *this = std::move(other);
+}
 
 GpuMaterial& GpuMaterial::operator=(GpuMaterial&& other) noexcept {
     if (this != &other) {
-        GpuMaterial old(std::move(*this));
+        release();
         mRelief = std::exchange(other.mRelief, 0);
         mColor = std::exchange(other.mColor, 0);
+        mComposedAo = std::exchange(other.mComposedAo, 0);
+        mLayers = std::exchange(other.mLayers, {});
+        mNormalMode = other.mNormalMode;
+        mLiveAo = other.mLiveAo;
+        mColorLayer = other.mColorLayer;
         mDepthScale = other.mDepthScale;
         mAoDepthScale = other.mAoDepthScale;
         mHasAo = other.mHasAo;
@@ -258,6 +269,34 @@ GpuMaterial& GpuMaterial::operator=(GpuMaterial&& other) noexcept {
     }
     return *this;
 }
+
+namespace {
+
+// Colour: sRGB-encoded, decoded to linear by the texture unit (and filtered in linear). 1x1 white if empty.
+GLuint makeColorTexture(const Image& color) {
+    const int colorWidth = color.empty() ? 1 : color.width();
+    const int colorHeight = color.empty() ? 1 : color.height();
+    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(colorWidth) * colorHeight * 4, 255);
+    if (!color.empty()) {
+        for (int y = 0; y < colorHeight; ++y) {
+            for (int x = 0; x < colorWidth; ++x) {
+                const std::size_t i = (static_cast<std::size_t>(y) * colorWidth + x) * 4;
+                for (int c = 0; c < 3; ++c) rgba[i + c] = toUnorm8(color.at(x, y, c));
+            }
+        }
+    }
+    return makeTexture(GL_SRGB8_ALPHA8, colorWidth, colorHeight, GL_RGBA, GL_UNSIGNED_BYTE, rgba, 4);
+}
+
+// The packed texture (CONVENTIONS §5) as RGBA16 with mipmaps.
+GLuint makePackedTexture(const ReliefTexture& texture) {
+    const Image packed = packRelief(texture);
+    std::vector<std::uint16_t> texels(packed.pixels().size());
+    std::transform(packed.pixels().begin(), packed.pixels().end(), texels.begin(), toUnorm16);
+    return makeTexture(GL_RGBA16, packed.width(), packed.height(), GL_RGBA, GL_UNSIGNED_SHORT, texels, 4);
+}
+
+}  // namespace
 
 GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale) {
     if (texture.depth.empty() || texture.depth.channels() != 1) {
@@ -286,34 +325,156 @@ GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale) {
     }
     GpuMaterial result;
     // CONVENTIONS §5 layout, 16 bits per channel (the packed file's precision).
-    const Image packed = packRelief(texture);
-    std::vector<std::uint16_t> texels(packed.pixels().size());
-    std::transform(packed.pixels().begin(), packed.pixels().end(), texels.begin(), toUnorm16);
-    result.mRelief =
-        makeTexture(GL_RGBA16, packed.width(), packed.height(), GL_RGBA, GL_UNSIGNED_SHORT, texels, 4);
-    result.mWidth = packed.width();
-    result.mHeight = packed.height();
+    result.mRelief = makePackedTexture(texture);
+    result.mWidth = texture.depth.width();
+    result.mHeight = texture.depth.height();
 
-    // Colour: sRGB-encoded, decoded to linear by the texture unit (and filtered in linear).
     const Image& color = texture.color;
-    const int colorWidth = color.empty() ? 1 : color.width();
-    const int colorHeight = color.empty() ? 1 : color.height();
-    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(colorWidth) * colorHeight * 4, 255);
-    if (!color.empty()) {
-        for (int y = 0; y < colorHeight; ++y) {
-            for (int x = 0; x < colorWidth; ++x) {
-                const std::size_t i = (static_cast<std::size_t>(y) * colorWidth + x) * 4;
-                for (int c = 0; c < 3; ++c) rgba[i + c] = toUnorm8(color.at(x, y, c));
-            }
-        }
-    }
-    result.mColor = makeTexture(GL_SRGB8_ALPHA8, colorWidth, colorHeight, GL_RGBA, GL_UNSIGNED_BYTE, rgba, 4);
+    result.mColor = makeColorTexture(color);
     result.mDepthScale = texture.depthScale;
     result.mAoDepthScale = aoDepthScale;
     result.mHasAo = !texture.ao.empty();
     result.mHasColor = !color.empty();
     checkGl("uploadMaterial");
     return result;
+}
+
+namespace {
+
+[[noreturn]] void invalidLive(const std::string& message) {
+    throw Error(ErrorKind::InvalidInput, "uploadLiveMaterial: " + message);
+}
+
+std::string liveLayerName(std::span<const CompositionLayer> layers, std::size_t i) {
+    const std::string index = "layers[" + std::to_string(i) + "]";
+    return layers[i].label.empty() ? index : layers[i].label;
+}
+
+}  // namespace
+
+GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const ComposeParams& compose,
+                               std::optional<MetaAoMode> ao, const AoParams& aoParams) {
+    if (layers.size() > static_cast<std::size_t>(kMaxLiveLayers)) {
+        invalidLive(std::to_string(layers.size()) + " layers; the live path takes at most " +
+                    std::to_string(kMaxLiveLayers) + " (bake the material instead)");
+    }
+    // Validates the depth weights, tilings and depth scale like compose(), and gives each layer's AO bake.
+    const std::vector<std::optional<AoParams>> layerAo = metaReliefLayerAoParams(layers, compose, aoParams);
+    double sumNormal = 0.0;
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+        const CompositionLayer& layer = layers[i];
+        if (!std::isfinite(layer.weightNormal) || layer.weightNormal < 0.0)
+            invalidLive(liveLayerName(layers, i) + ": weight_normal must be a finite number >= 0, got " +
+                        formatNumber(layer.weightNormal));
+        if (layer.texture.depth.empty() || layer.texture.depth.channels() != 1)
+            invalidLive(liveLayerName(layers, i) + ": needs a 1-channel depth map");
+        if (compose.normals == NormalMode::Paper &&
+            (layer.texture.normal.channels() != 3 ||
+             layer.texture.normal.width() != layer.texture.depth.width() ||
+             layer.texture.normal.height() != layer.texture.depth.height()))
+            invalidLive(liveLayerName(layers, i) +
+                        ": paper normals need a 3-channel normal map of the depth map's size");
+        sumNormal += layer.weightNormal;
+    }
+    if (compose.normals == NormalMode::Paper && !(sumNormal > 0.0))
+        invalidLive("the normal weights (weight_normal) of the layers sum to 0: at least one must be > 0");
+    if (compose.colorFrom >= static_cast<int>(layers.size()) ||
+        (compose.colorFrom >= 0 && layers[static_cast<std::size_t>(compose.colorFrom)].texture.color.empty()))
+        invalidLive("color_from = " + std::to_string(compose.colorFrom) +
+                    " names no layer with a colour map");
+
+    GpuMaterial result;
+    result.mNormalMode = compose.normals;
+    result.mLiveAo = ao;
+    result.mColorLayer = compose.colorFrom;
+    result.mDepthScale = compose.depthScale;
+    result.mAoDepthScale = compose.depthScale;
+    result.mHasAo = ao.has_value();
+    result.mHasColor = compose.colorFrom >= 0;
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+        const CompositionLayer& layer = layers[i];
+        ReliefTexture packed;
+        packed.depth = layer.texture.depth;
+        packed.depthScale = compose.depthScale;
+        GpuLayer gpu;
+        // Consistent normals need each layer's depth gradient g: stored as normals derived at a scale S_L
+        // of the layer's own, n = normalize(S_L g, 1), from which the shader recovers g = n.xy / (n.z S_L).
+        // S_L makes the steepest |S_L g| 1/4: there a unit normal is within 3 % of linear in g, so filtering
+        // the normals filters the gradient (as the baked composition does) instead of bending it, and 16 bits
+        // still resolve g to 1e-4 of its range. Paper normals are the layer's own map.
+        if (compose.normals == NormalMode::Consistent) {
+            const Image gradient = depthGradient(layer.texture.depth);
+            double steepest = 0.0;
+            for (int y = 0; y < gradient.height(); ++y)
+                for (int x = 0; x < gradient.width(); ++x)
+                    steepest = std::max(steepest, std::hypot(static_cast<double>(gradient.at(x, y, 0)),
+                                                             static_cast<double>(gradient.at(x, y, 1))));
+            gpu.normalScale = steepest > 0.0 ? 0.25 / steepest : 1.0;
+            packed.normal = normalsFromDepth(layer.texture.depth, gpu.normalScale);
+        } else {
+            packed.normal = layer.texture.normal;
+        }
+        if ((ao == MetaAoMode::Multiply || ao == MetaAoMode::Min) && layerAo[i]) {
+            packed.ao = bakeAo(layer.texture.depth, *layerAo[i]);
+            gpu.aoDepthScale = layerAo[i]->depthScale;
+        }
+        gpu.texture = makePackedTexture(packed);
+        if (static_cast<int>(i) == compose.colorFrom) gpu.color = makeColorTexture(layer.texture.color);
+        gpu.tiling = layer.tiling;
+        gpu.weightDepth = layer.weightDepth;
+        gpu.weightNormal = layer.weightNormal;
+        gpu.width = layer.texture.depth.width();
+        gpu.height = layer.texture.depth.height();
+        result.mLayers.push_back(gpu);
+    }
+    result.mColor = compose.colorFrom >= 0 ? 0 : makeColorTexture(Image());
+    result.mWidth = result.mLayers.front().width;
+    result.mHeight = result.mLayers.front().height;
+    checkGl("uploadLiveMaterial");
+    return result;
+}
+
+void GpuMaterial::setLayer(int index, double tiling, double weightDepth, double weightNormal) {
+    const std::string name = "GpuMaterial::setLayer: layers[" + std::to_string(index) + "]";
+    if (index < 0 || index >= static_cast<int>(mLayers.size()))
+        throw Error(ErrorKind::InvalidInput,
+                    name + ": no such layer (" + std::to_string(mLayers.size()) + ")");
+    if (!(std::isfinite(tiling) && tiling > 0.0))
+        throw Error(ErrorKind::InvalidInput, name + ": tiling must be > 0, got " + formatNumber(tiling));
+    if (!(std::isfinite(weightDepth) && weightDepth >= 0.0 && std::isfinite(weightNormal) &&
+          weightNormal >= 0.0))
+        throw Error(ErrorKind::InvalidInput, name + ": weights must be finite and >= 0, got " +
+                                                 formatNumber(weightDepth) + ", " +
+                                                 formatNumber(weightNormal));
+    GpuLayer changed = mLayers[static_cast<std::size_t>(index)];
+    changed.tiling = tiling;
+    changed.weightDepth = weightDepth;
+    changed.weightNormal = weightNormal;
+    double sumDepth = 0.0, sumNormal = 0.0;
+    for (std::size_t i = 0; i < mLayers.size(); ++i) {
+        const GpuLayer& layer = static_cast<int>(i) == index ? changed : mLayers[i];
+        sumDepth += layer.weightDepth;
+        sumNormal += layer.weightNormal;
+    }
+    if (!(sumDepth > 0.0)) throw Error(ErrorKind::InvalidInput, name + ": the depth weights would sum to 0");
+    if (mNormalMode == NormalMode::Paper && !(sumNormal > 0.0))
+        throw Error(ErrorKind::InvalidInput, name + ": the normal weights would sum to 0");
+    mLayers[static_cast<std::size_t>(index)] = changed;
+}
+
+void GpuMaterial::setComposedAo(const Image& ao, double aoDepthScale) {
+    if (ao.empty() || ao.channels() != 1)
+        throw Error(ErrorKind::InvalidInput, "GpuMaterial::setComposedAo: the AO map must have 1 channel");
+    if (!(std::isfinite(aoDepthScale) && aoDepthScale > 0.0))
+        throw Error(ErrorKind::InvalidInput, "GpuMaterial::setComposedAo: AO depth scale must be > 0, got " +
+                                                 formatNumber(aoDepthScale));
+    std::vector<std::uint16_t> texels(ao.pixels().size());
+    std::transform(ao.pixels().begin(), ao.pixels().end(), texels.begin(), toUnorm16);
+    const GLuint texture = makeTexture(GL_R16, ao.width(), ao.height(), GL_RED, GL_UNSIGNED_SHORT, texels, 1);
+    if (mComposedAo != 0) glDeleteTextures(1, &mComposedAo);
+    mComposedAo = texture;
+    mAoDepthScale = aoDepthScale;
+    checkGl("GpuMaterial::setComposedAo");
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -457,6 +618,8 @@ struct ReliefRenderer::Impl {
 
     void drawScene(const RenderRequest& request, int width, int height, bool encodeSrgb,
                    const glm::vec4& clearColor);
+    static void setLiveUniforms(const Program& program, const GpuMaterial& material, double depthScale,
+                                const ReliefSettings& relief);
 };
 
 namespace {
@@ -511,6 +674,44 @@ std::pair<double, double> clipPlanes(const RenderRequest& request) {
 
 }  // namespace
 
+// The live meta-relief's uniforms (relief_search.glsl, relief.frag.glsl metaShade): weights normalised as
+// Eq. 1 and 2 do, and each layer's AO rescale S_i now / S_i baked, S_i = S (w_d,i / W) t_i.
+void ReliefRenderer::Impl::setLiveUniforms(const Program& program, const GpuMaterial& material,
+                                           double depthScale, const ReliefSettings& relief) {
+    const GLuint id = program.id();
+    const auto location = [&](const char* name) { return program.uniformLocation(name); };
+    const std::vector<GpuLayer>& layers = material.layers();
+    double sumDepth = 0.0, sumNormal = 0.0;
+    for (const GpuLayer& layer : layers) {
+        sumDepth += layer.weightDepth;
+        sumNormal += layer.weightNormal;
+    }
+    std::array<float, kMaxLiveLayers> tiling{}, depthWeight{}, normalWeight{}, aoScale{}, normalScale{};
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+        const GpuLayer& layer = layers[i];
+        tiling[i] = static_cast<float>(layer.tiling);
+        normalScale[i] = static_cast<float>(layer.normalScale);
+        depthWeight[i] = static_cast<float>(layer.weightDepth / sumDepth);
+        normalWeight[i] = sumNormal > 0.0 ? static_cast<float>(layer.weightNormal / sumNormal) : 0.0f;
+        const double now = depthScale * (layer.weightDepth / sumDepth) * layer.tiling;
+        aoScale[i] = layer.aoDepthScale > 0.0 && relief.aoRescale != AoRescale::Off
+                         ? static_cast<float>(now / layer.aoDepthScale)
+                         : 1.0f;
+    }
+    glProgramUniform1i(id, location("uLayerCount"), static_cast<GLint>(layers.size()));
+    glProgramUniform1fv(id, location("uLayerTiling"), kMaxLiveLayers, tiling.data());
+    glProgramUniform1fv(id, location("uLayerDepthWeight"), kMaxLiveLayers, depthWeight.data());
+    glProgramUniform1fv(id, location("uLayerNormalWeight"), kMaxLiveLayers, normalWeight.data());
+    glProgramUniform1fv(id, location("uLayerAoScale"), kMaxLiveLayers, aoScale.data());
+    glProgramUniform1i(id, location("uMetaConsistent"), material.normalMode() == NormalMode::Consistent);
+    glProgramUniform1fv(id, location("uLayerNormalScale"), kMaxLiveLayers, normalScale.data());
+    int aoMode = 0;
+    if (material.liveAo() == MetaAoMode::Multiply) aoMode = 1;
+    if (material.liveAo() == MetaAoMode::Min) aoMode = 2;
+    if (material.liveAo() == MetaAoMode::Exact && material.composedAoTexture() != 0) aoMode = 3;
+    glProgramUniform1i(id, location("uMetaAo"), aoMode);
+}
+
 void ReliefRenderer::Impl::drawScene(const RenderRequest& request, int width, int height, bool encodeSrgb,
                                      const glm::vec4& clearColor) {
     const auto [nearPlane, farPlane] = clipPlanes(request);
@@ -548,6 +749,7 @@ void ReliefRenderer::Impl::drawScene(const RenderRequest& request, int width, in
         if (material != nullptr && relief.ao && material->hasAo()) {
             variant.ao = relief.aoRescale == AoRescale::Paper ? AoMode::Paper : AoMode::Baked;
         }
+        variant.live = material != nullptr && material->isLive();
         const Program& prog = program(variant);
         const GLuint id = prog.id();
         const auto location = [&](const char* name) { return prog.uniformLocation(name); };
@@ -583,11 +785,38 @@ void ReliefRenderer::Impl::drawScene(const RenderRequest& request, int width, in
                            srgbToLinear(object.color.g), srgbToLinear(object.color.b));
         glProgramUniform1i(id, location("uEncodeSrgb"), encodeSrgb ? 1 : 0);
 
+        glProgramUniform1f(id, location("uColorTiling"), 1.0f);
+        const GLuint sampler =
+            request.picture.output == RenderOutput::Shaded ? searchSampler : baseLevelSampler;
         glUseProgram(id);
-        glBindTextureUnit(0, material != nullptr ? material->reliefTexture() : flatRelief);
-        glBindTextureUnit(1, material != nullptr ? material->colorTexture() : white);
-        glBindTextureUnit(2, material != nullptr ? material->reliefTexture() : flatRelief);
-        glBindSampler(0, request.picture.output == RenderOutput::Shaded ? searchSampler : baseLevelSampler);
+        if (variant.live) {
+            setLiveUniforms(prog, *material, depthScale, relief);
+            glBindTextureUnit(0, flatRelief);
+            glBindTextureUnit(2, flatRelief);
+            const std::vector<GpuLayer>& layers = material->layers();
+            const int colorLayer = material->colorLayer();
+            glBindTextureUnit(1,
+                              colorLayer >= 0 ? layers[static_cast<std::size_t>(colorLayer)].color : white);
+            if (colorLayer >= 0) {
+                glProgramUniform1f(id, location("uColorTiling"),
+                                   static_cast<float>(layers[static_cast<std::size_t>(colorLayer)].tiling));
+            }
+            // Searches and shading read the layers through one sampler (trilinear, or the base level for the
+            // debug outputs): a second set of units with anisotropic filtering would need 16 more.
+            for (int unit = 0; unit < kMaxLiveLayers; ++unit) {
+                const bool used = unit < static_cast<int>(layers.size());
+                glBindTextureUnit(3 + unit,
+                                  used ? layers[static_cast<std::size_t>(unit)].texture : flatRelief);
+                glBindSampler(3 + unit, sampler);
+            }
+            glBindTextureUnit(
+                11, material->composedAoTexture() != 0 ? material->composedAoTexture() : flatRelief);
+        } else {
+            glBindTextureUnit(0, material != nullptr ? material->reliefTexture() : flatRelief);
+            glBindTextureUnit(1, material != nullptr ? material->colorTexture() : white);
+            glBindTextureUnit(2, material != nullptr ? material->reliefTexture() : flatRelief);
+        }
+        glBindSampler(0, sampler);
         // A mirroring model turns counter-clockwise triangles clockwise on screen.
         glFrontFace(determinant < 0.0 ? GL_CW : GL_CCW);
         glBindVertexArray(object.mesh->vertexArray());
@@ -598,6 +827,7 @@ void ReliefRenderer::Impl::drawScene(const RenderRequest& request, int width, in
     }
     glBindVertexArray(0);
     glBindSampler(0, 0);
+    for (int unit = 0; unit < kMaxLiveLayers; ++unit) glBindSampler(3 + unit, 0);
     glUseProgram(0);
     glFrontFace(GL_CCW);
 }

@@ -104,6 +104,7 @@ Scene parseScene(const json& document, const fs::path& source) {
     if (const auto b = reader.boolean("depth_correction")) relief.depthCorrection = *b;
     if (const auto b = reader.boolean("ao")) relief.ao = *b;
     if (const auto r = readName(reader, "ao_rescale", parseAoRescale)) relief.aoRescale = *r;
+    if (const auto m = readName(reader, "meta", parseMetaPath)) scene.meta = *m;
 
     if (const json* cameraJson = reader.object("camera")) {
         ObjectReader cameraReader(*cameraJson, "camera", file);
@@ -240,6 +241,31 @@ ReliefTexture loadSceneMaterial(const Scene& scene, std::vector<std::string>* no
     throw Error(ErrorKind::Io, "material '" + scene.material +
                                    "' is neither a file nor a built-in material (" + kMainJobMaterial +
                                    names + ")");
+}
+
+const char* toString(MetaPath path) {
+    return path == MetaPath::Live ? "live" : "baked";
+}
+
+MetaPath parseMetaPath(const std::string& text) {
+    if (text == "baked") return MetaPath::Baked;
+    if (text == "live") return MetaPath::Live;
+    throw Error(ErrorKind::InvalidInput, "meta path must be baked or live, got '" + text + "'");
+}
+
+Material loadSceneLayeredMaterial(const Scene& scene) {
+    const std::string why =
+        " has no layers: the live meta-relief path needs a material JSON (docs/material.md)";
+    if (!scene.depthMap.empty()) throw Error(ErrorKind::InvalidInput, "a depth map" + why);
+    const fs::path asFile(scene.material);
+    if (fs::exists(asFile)) {
+        if (fs::is_directory(asFile) || asFile.filename() == kSidecarName)
+            throw Error(ErrorKind::InvalidInput, "texture set " + asFile.string() + why);
+        return readMaterial(asFile);
+    }
+    if (scene.material == kMainJobMaterial)
+        return parseMaterial(json::parse(kShapedFabricJson), "built-in material shaped-fabric");
+    throw Error(ErrorKind::InvalidInput, "material '" + scene.material + "'" + why);
 }
 
 double renderDepthScale(const Scene& scene, const ReliefTexture& texture) {

@@ -100,6 +100,7 @@ struct ProgramVariant {
     bool shadows = false;          // self-shadowing, the light-ray test (shaded and shadow outputs)
     bool depthCorrection = false;  // gl_FragDepth at the relief point (relief, parallax)
     AoMode ao = AoMode::Off;       // shaded output only
+    bool live = false;             // a live meta-relief's layers instead of one packed texture
 
     auto operator<=>(const ProgramVariant&) const = default;
 };

@@ -12,8 +12,10 @@
 // row 0 = top (CONVENTIONS §7).
 #pragma once
 
+#include "strata/compose/compose.h"
 #include "strata/image/image.h"
 #include "strata/mesh/mesh.h"
+#include "strata/occlusion/meta_relief_ao.h"
 #include "strata/relief/relief_texture.h"
 #include "strata/scene/camera.h"
 #include "strata/scene/render_settings.h"
@@ -22,6 +24,8 @@
 #include <glm/vec3.hpp>
 
 #include <memory>
+#include <optional>
+#include <span>
 #include <vector>
 
 namespace strata::gl {
@@ -64,8 +68,22 @@ private:
 // or an index out of range; Error(Runtime) on a GL error.
 GpuMesh uploadMesh(const Mesh& mesh);
 
+// One layer of a live meta-relief in GPU memory (uploadLiveMaterial).
+struct GpuLayer {
+    unsigned texture = 0;       // packed (CONVENTIONS §5 layout): n.xy, the layer's AO, d
+    unsigned color = 0;         // the layer's colour (SRGB8_ALPHA8), 0 if it has none
+    double tiling = 1.0;        // t_i
+    double weightDepth = 1.0;   // w_d,i (not normalised)
+    double weightNormal = 1.0;  // w_n,i (not normalised)
+    double aoDepthScale = 0.0;  // S_i its AO was baked at; 0 = no AO (texture B = 1)
+    double normalScale = 1.0;   // consistent normals: the S_L its normals were derived from depth at
+    int width = 0;
+    int height = 0;
+};
+
 // A relief material in GPU memory: the packed relief texture (CONVENTIONS §5), the colour texture (1x1
-// white if the texture has none) and what the shader needs to know about them. Move-only.
+// white if the texture has none) and what the shader needs to know about them; or, for a live meta-relief
+// (uploadLiveMaterial), its layers. Move-only.
 class GpuMaterial {
 public:
     GpuMaterial() = default;
@@ -74,6 +92,24 @@ public:
     GpuMaterial& operator=(GpuMaterial&& other) noexcept;
     GpuMaterial(const GpuMaterial&) = delete;
     GpuMaterial& operator=(const GpuMaterial&) = delete;
+
+    // Live meta-relief (Limberger et al. 2015, Sec. III-A): the layers are combined per fragment.
+    bool isLive() const { return !mLayers.empty(); }
+    const std::vector<GpuLayer>& layers() const { return mLayers; }
+    NormalMode normalMode() const { return mNormalMode; }
+    // How the live AO is made: nullopt none; Multiply / Min the layers' maps per fragment; Exact the
+    // composed AO map (setComposedAo).
+    std::optional<MetaAoMode> liveAo() const { return mLiveAo; }
+    int colorLayer() const { return mColorLayer; }  // -1: none
+    // Changes a layer's tiling and weights: nothing is re-uploaded or re-baked (the layers' AO maps are
+    // rescaled per fragment by paper Eq. 4-6; an Exact AO map is the caller's to re-bake). Throws
+    // Error(InvalidInput) naming the layer for an index out of range, tiling not > 0, a negative or
+    // non-finite weight, or weights that leave no depth (or, in paper normals, no normal) weight at all.
+    void setLayer(int index, double tiling, double weightDepth, double weightNormal);
+    // The AO map of the composed depth (1 channel, any size, tiling 1), valid at depth scale aoDepthScale:
+    // uploaded (replacing the previous one) and used by a live material whose liveAo() is Exact.
+    void setComposedAo(const Image& ao, double aoDepthScale);
+    unsigned composedAoTexture() const { return mComposedAo; }
 
     double depthScale() const { return mDepthScale; }      // S the normal map is valid for
     double aoDepthScale() const { return mAoDepthScale; }  // S the AO channel is valid for
@@ -86,8 +122,17 @@ public:
 
 private:
     friend GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale);
+    friend GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers,
+                                          const ComposeParams& compose, std::optional<MetaAoMode> ao,
+                                          const AoParams& aoParams);
+    void release();
     unsigned mRelief = 0;
     unsigned mColor = 0;
+    std::vector<GpuLayer> mLayers;
+    NormalMode mNormalMode = NormalMode::Paper;
+    std::optional<MetaAoMode> mLiveAo;
+    int mColorLayer = -1;
+    unsigned mComposedAo = 0;
     double mDepthScale = kDefaultDepthScale;
     double mAoDepthScale = kDefaultDepthScale;
     bool mHasAo = false;
@@ -101,6 +146,23 @@ private:
 // Throws Error(InvalidInput) for a texture without depth or normals, maps of the wrong channel count, or a
 // non-positive aoDepthScale; Error(Runtime) on a GL error.
 GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale);
+
+// A live meta-relief (Limberger et al. 2015, Sec. III-A and V): every layer uploaded as its own packed
+// texture at its own resolution, combined by the shader per fragment (Eq. 2 for the depth the searches see;
+// Eq. 1 or the composed depth's own normal, compose.normals; the colour of layer compose.colorFrom at that
+// layer's tiling). Fractional tilings have no seam and weights change with GpuMaterial::setLayer, without a
+// re-bake. compose.depthScale is the material's S; compose.resolution is not used.
+// AO (`ao`): nullopt none; Multiply / Min: each layer's AO baked now at its share of the depth,
+// S_i = S (w_d,i / W) t_i (metaReliefLayerAoParams, with aoParams' method, directions and radius), combined
+// per fragment and rescaled to the current weights by Eq. 4-6; Exact: the AO of the composed depth, which the
+// caller bakes and passes with setComposedAo (until then AO is 1).
+// Throws Error(InvalidInput) like compose() for bad layers or weights and for more than kMaxLiveLayers
+// layers; Error(Runtime) on a GL error.
+GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const ComposeParams& compose,
+                               std::optional<MetaAoMode> ao, const AoParams& aoParams);
+
+// The most layers a live meta-relief has (the shader's sampler array).
+inline constexpr int kMaxLiveLayers = 8;
 
 struct SceneObject {
     const GpuMesh* mesh = nullptr;

@@ -28,6 +28,7 @@
 // §7). Relative paths are relative to the scene file.
 #pragma once
 
+#include "strata/compose/material.h"
 #include "strata/mesh/mesh.h"
 #include "strata/relief/relief_texture.h"
 #include "strata/scene/camera.h"
@@ -45,13 +46,23 @@ namespace strata {
 
 inline constexpr const char* kMainJobMaterial = "shaped-fabric";
 
+// How a meta-relief material reaches the shader ("meta", --meta).
+enum class MetaPath {
+    Baked,  // composed into one relief texture on load (compose()), the paper's baked MRT
+    Live,   // its layers combined per fragment (gl::uploadLiveMaterial): weights change without a re-bake
+};
+const char* toString(MetaPath path);
+// "baked" | "live"; throws Error(InvalidInput) listing them for anything else.
+MetaPath parseMetaPath(const std::string& text);
+
 struct Scene {
     std::filesystem::path source;  // the scene file, for messages ("" for flags only)
     std::string mesh = "teapot";   // built-in name or file path (resolved against the scene file)
     int tessellation = 0;          // built-in tessellation, 0 = the built-in's default
     std::string material = kMainJobMaterial;
-    std::filesystem::path depthMap;  // replaces the material when set
-    std::optional<Camera> camera;    // nullopt: framed automatically from the mesh bounds (frameCamera)
+    std::filesystem::path depthMap;   // replaces the material when set
+    MetaPath meta = MetaPath::Baked;  // a layered material's path (a texture set or pattern has no layers)
+    std::optional<Camera> camera;     // nullopt: framed automatically from the mesh bounds (frameCamera)
     ReliefSettings relief;
     Lighting lighting;
     PictureSettings picture;
@@ -74,6 +85,11 @@ using SceneProgress = std::function<void(const std::string& message)>;
 // (see the top of this file). Notes (e.g. "read RGB depth through its luminance") go to `notes`.
 ReliefTexture loadSceneMaterial(const Scene& scene, std::vector<std::string>* notes = nullptr,
                                 const SceneProgress& progress = {});
+
+// The layered material behind scene.material, for MetaPath::Live: a material JSON, or the built-in
+// "shaped-fabric". Throws Error(InvalidInput) naming the material for a depth map, a texture set or a
+// pattern (they have no layers), and like readMaterial for a bad file.
+Material loadSceneLayeredMaterial(const Scene& scene);
 
 // The depth scale a render uses: relief.depthScale, or the texture's own.
 double renderDepthScale(const Scene& scene, const ReliefTexture& texture);
