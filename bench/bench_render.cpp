@@ -9,6 +9,7 @@
 // One frame = render(): draw and the read-back of the picture into a strata::Image (the
 // read-back is a few percent of a frame at these sizes). Reported as time per frame.
 // Run: build/release/bench/bench_render
+#include "strata/compose/compose.h"
 #include "strata/gl/context.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
@@ -128,6 +129,60 @@ void BM_DefaultScene(benchmark::State& state) {
     state.SetLabel(std::string(toString(request.relief.technique)) + " 1280x720 x4");
 }
 BENCHMARK(BM_DefaultScene)->DenseRange(0, 3)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Live meta-relief (gl::uploadLiveMaterial: layers combined per fragment) against the same layers baked into
+// one texture (compose()), on the teapot at 512^2 with the paper's 10 + 5 steps, shadows and depth
+// correction, no AO. Layers, in order: base 512^2 x 1 (w 1), fabric 256^2 x 4 (0.3), stone-bricks 256^2 x 2
+// (0.3), metal 256^2 x 8 (0.15), scales 128^2 x 8 (0.15); the first `layers` of them, composed at 512^2.
+// Args: layer count, live (1) or baked (0). The goal: live <= 1.5x baked with 3 layers.
+void BM_LiveMetaRelief(benchmark::State& state) {
+    BenchScene& s = scene();
+    if (!s.failure.empty()) {
+        state.SkipWithError(s.failure.c_str());
+        return;
+    }
+    const int count = static_cast<int>(state.range(0));
+    const bool live = state.range(1) == 1;
+    const struct {
+        const char* pattern;
+        int size;
+        double tiling;
+        double weight;
+    } spec[] = {{"base", 512, 1.0, 1.0},
+                {"fabric", 256, 4.0, 0.3},
+                {"stone-bricks", 256, 2.0, 0.3},
+                {"metal", 256, 8.0, 0.15},
+                {"scales", 128, 8.0, 0.15}};
+    std::vector<CompositionLayer> layers;
+    for (int i = 0; i < count; ++i) {
+        CompositionLayer layer;
+        layer.texture = makePattern(spec[i].pattern, {spec[i].size, 1, 0.08});
+        layer.tiling = spec[i].tiling;
+        layer.weightDepth = layer.weightNormal = spec[i].weight;
+        layers.push_back(std::move(layer));
+    }
+    ComposeParams params;
+    params.resolution = 512;
+    params.depthScale = 0.08;
+    params.colorFrom = 0;
+    const gl::GpuMaterial material = live ? gl::uploadLiveMaterial(layers, params, std::nullopt, AoParams{})
+                                          : gl::uploadMaterial(compose(layers, params).texture, 0.08);
+    gl::RenderRequest request;
+    request.objects.push_back({&s.teapot, glm::dmat4(1.0), &material, glm::dvec3(0.8)});
+    request.camera.eye = {0.4, -2.6, 1.5};
+    request.camera.target = {0.08, 0.0, 0.45};
+    request.camera.fovYDegrees = 35.0;
+    request.relief.tiling = 2.0;
+    request.picture.width = request.picture.height = 512;
+    request.picture.samples = 1;
+    s.renderer->render(request);  // compile the program outside the timing
+    for (auto _ : state) {
+        Image image = s.renderer->render(request);
+        benchmark::DoNotOptimize(image);
+    }
+    state.SetLabel(std::string(live ? "live " : "baked ") + std::to_string(count) + " layers, teapot 512^2");
+}
+BENCHMARK(BM_LiveMetaRelief)->ArgsProduct({{2, 3, 5}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Texture fetches per pixel on the verification scene (CONVENTIONS §7), counted on the CPU by running the
 // shaders' search loops (shaders/relief/relief_search.glsl, relief.frag.glsl) on the same rays with the same

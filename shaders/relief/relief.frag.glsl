@@ -95,7 +95,8 @@ void metaShade(vec2 uv, out vec3 n, out float ao) {
     vec2 gradient = vec2(0.0);
     float aoProduct = 1.0;
     float aoMin = 1.0;
-    for (int i = 0; i < uLayerCount; ++i) {
+    for (int i = 0; i < kMaxLayers; ++i) {
+        if (i >= uLayerCount) break;
         float t = uLayerTiling[i];
         vec2 layerUv = uv * t;
         vec4 texel = textureGrad(uLayers[i], layerUv - floor(layerUv), gTileDx * t, gTileDy * t);

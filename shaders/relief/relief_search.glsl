@@ -55,7 +55,8 @@ vec4 layerSample(int i, vec2 uv) {
 float reliefDepth(vec2 uv) {
 #ifdef STRATA_META_LIVE
     float depth = 0.0;
-    for (int i = 0; i < uLayerCount; ++i) {
+    for (int i = 0; i < kMaxLayers; ++i) {
+        if (i >= uLayerCount) break;
         if (uLayerDepthWeight[i] > 0.0) depth += uLayerDepthWeight[i] * layerSample(i, uv).a;
     }
     return depth;

@@ -196,7 +196,7 @@ void composeInto(std::span<const CompositionLayer> layers, const ComposeParams& 
                 layerName(layers, i) + ": tiling " + formatNumber(layers[i].tiling) +
                 " is not an integer, so the baked texture does not tile (the layer is cut at the tile "
                 "border). "
-                "The renderer's live meta-relief path samples layers per fragment and has no such seam.");
+                "strata render --meta live samples the layers per fragment and has no such seam.");
 
     // Per-layer sampling plans. Consistent normals need each layer's depth gradient (per layer tile),
     // sampled like the depth and scaled by the tiling factor (chain rule).
