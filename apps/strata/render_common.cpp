@@ -69,8 +69,8 @@ void addSceneFlags(CLI::App& command, SceneFlags& f) {
                     "Render this depth map (d in [0, 1], 0 = top) instead of a material: the verification "
                     "scene's input (CONVENTIONS §7)")
         ->check(CLI::ExistingFile);
-    command.add_option("--technique", f.technique, "texture, normal, parallax or relief")
-        ->check(CLI::IsMember({"texture", "normal", "parallax", "relief"}));
+    command.add_option("--technique", f.technique, "texture, normal, parallax, relief or maxmip (exact)")
+        ->check(CLI::IsMember({"texture", "normal", "parallax", "relief", "maxmip"}));
     command
         .add_option("--linear-steps", f.linearSteps,
                     "Relief: linear search steps at normal incidence (paper: 10)")

@@ -5,7 +5,7 @@
 //
 // Variant flags (src/gl/program.cpp, variantDefines), one of each group:
 //   STRATA_PLAIN | STRATA_TECHNIQUE_TEXTURE | STRATA_TECHNIQUE_NORMAL | STRATA_TECHNIQUE_PARALLAX |
-//   STRATA_TECHNIQUE_RELIEF
+//   STRATA_TECHNIQUE_RELIEF | STRATA_TECHNIQUE_MAXMIP
 //   STRATA_OUTPUT_SHADED | STRATA_OUTPUT_UV | STRATA_OUTPUT_SHADOW | STRATA_OUTPUT_DEPTH
 // and optionally STRATA_SHADOWS (the shaded and shadow outputs of every technique), STRATA_DEPTH_CORRECTION
 // (relief, parallax), STRATA_AO (ambient times the packed texture's AO) with STRATA_AO_PAPER (rescaled
@@ -17,6 +17,9 @@
 // (w.T / tileLength.x, w.B / tileLength.y, w.N / tileLength.z).
 
 #include "relief_search.glsl"
+#ifdef STRATA_TECHNIQUE_MAXMIP
+#include "maxmip.glsl"
+#endif
 #include "shared/ao_rescale.h"
 
 in VertexData {
@@ -167,6 +170,15 @@ void main() {
     } else {
         hit = false;
     }
+#elif defined(STRATA_TECHNIQUE_MAXMIP)
+    // Exact intersection (maxmip.glsl): no steps, no search window.
+    if (entering) {
+        int steps;
+        hitDepth = maxMipIntersect(tile, s.xy * uDepthScale / s.z, steps);
+        hitUv = tile + s.xy * uDepthScale / s.z * hitDepth;
+    } else {
+        hit = false;
+    }
 #elif defined(STRATA_TECHNIQUE_PARALLAX)
     // Parallax mapping (Kaneko et al. 2001, the paper's Sec. 2): read d at the fragment's own uv and move
     // along the view ray to that depth, uv' = uv + (d S) s.xy / s.z; with V = (-s.x, -s.y, s.z) the vector
@@ -217,9 +229,22 @@ void main() {
         vec3 toLight = uLightPosition - shadowWorld;
         vec3 toLightTile = vec3(dot(toLight, T) / tileLength.x, dot(toLight, B) / tileLength.y,
                                 dot(toLight, N) / tileLength.z);
+#ifdef STRATA_TECHNIQUE_MAXMIP
+        // Exact: the light ray's first intersection from the top, by the same traversal; lit when that is
+        // the point itself (within the bias of relief_search.glsl).
+        if (toLightTile.z > 0.0) {
+            vec2 up = toLightTile.xy * uDepthScale / toLightTile.z;
+            int steps;
+            float first = maxMipIntersect(shadowUv + up * shadowDepth, -up, steps);
+            lit = first >= shadowDepth - kShadowBias;
+        } else {
+            lit = false;
+        }
+#else
         float cosLight = dot(normalize(toLight), N);
         int lightSteps = clamp(reliefLinearSteps(uLinearSteps, cosLight), 1, 4 * uLinearSteps);
         lit = reliefLit(shadowUv, shadowDepth, shadowBracket, toLightTile, uDepthScale, lightSteps);
+#endif
     }
 #endif
 

@@ -278,7 +278,8 @@ ProgramVariant canonical(ProgramVariant variant) {
         variant.live = false;
         return variant;
     }
-    const bool displaced = variant.technique == Technique::Relief || variant.technique == Technique::Parallax;
+    const bool displaced = variant.technique == Technique::Relief ||
+                           variant.technique == Technique::Parallax || variant.technique == Technique::MaxMip;
     if (variant.output != RenderOutput::Shaded && variant.output != RenderOutput::Shadow)
         variant.shadows = false;
     if (!displaced) variant.depthCorrection = false;
@@ -288,15 +289,15 @@ ProgramVariant canonical(ProgramVariant variant) {
     const bool readsRelief =
         displaced || variant.shadows ||
         (variant.technique == Technique::Normal && variant.output == RenderOutput::Shaded);
-    if (!readsRelief) variant.live = false;
+    // The maximum mipmap is built from one baked depth texture (uploadMaterial).
+    if (!readsRelief || variant.technique == Technique::MaxMip) variant.live = false;
     return variant;
 }
 
 std::vector<ProgramVariant> allVariants() {
     std::vector<ProgramVariant> variants;
     for (const bool plain : {false, true}) {
-        for (const Technique technique :
-             {Technique::Texture, Technique::Normal, Technique::Parallax, Technique::Relief}) {
+        for (const Technique technique : kAllTechniques) {
             for (const RenderOutput output :
                  {RenderOutput::Shaded, RenderOutput::Uv, RenderOutput::Shadow, RenderOutput::Depth}) {
                 for (const bool shadows : {false, true}) {
@@ -346,6 +347,9 @@ std::vector<std::string> variantDefines(const ProgramVariant& variant) {
                 break;
             case Technique::Relief:
                 defines.emplace_back("STRATA_TECHNIQUE_RELIEF");
+                break;
+            case Technique::MaxMip:
+                defines.emplace_back("STRATA_TECHNIQUE_MAXMIP");
                 break;
         }
     }

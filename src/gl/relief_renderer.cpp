@@ -234,11 +234,12 @@ void GpuMaterial::release() {
     if (mRelief != 0) glDeleteTextures(1, &mRelief);
     if (mColor != 0) glDeleteTextures(1, &mColor);
     if (mComposedAo != 0) glDeleteTextures(1, &mComposedAo);
+    if (mMaxMip != 0) glDeleteTextures(1, &mMaxMip);
     for (const GpuLayer& layer : mLayers) {
         glDeleteTextures(1, &layer.texture);
         if (layer.color != 0) glDeleteTextures(1, &layer.color);
     }
-    mRelief = mColor = mComposedAo = 0;
+    mRelief = mColor = mComposedAo = mMaxMip = 0;
     mLayers.clear();
 }
 
@@ -256,6 +257,8 @@ GpuMaterial& GpuMaterial::operator=(GpuMaterial&& other) noexcept {
         mRelief = std::exchange(other.mRelief, 0);
         mColor = std::exchange(other.mColor, 0);
         mComposedAo = std::exchange(other.mComposedAo, 0);
+        mMaxMip = std::exchange(other.mMaxMip, 0);
+        mMaxMipLevels = other.mMaxMipLevels;
         mLayers = std::exchange(other.mLayers, {});
         mNormalMode = other.mNormalMode;
         mLiveAo = other.mLiveAo;
@@ -296,6 +299,58 @@ GLuint makePackedTexture(const ReliefTexture& texture) {
     return makeTexture(GL_RGBA16, packed.width(), packed.height(), GL_RGBA, GL_UNSIGNED_SHORT, texels, 4);
 }
 
+bool isPowerOfTwo(int n) {
+    return n > 0 && (n & (n - 1)) == 0;
+}
+
+// The maximum mipmap of maxmip.glsl, from the depth as the relief texture stores it (16 bits), in GL's row
+// order (row 0 = v's first texel row). Level 0: per cell (i, j), between texel centres i, i + 1 and j, j + 1
+// (wrapping), the smallest of the four; level k: the smallest of the 2x2 nodes below (a side that has
+// shrunk to 1 stays 1, its node covering the whole side). Power-of-two sides only.
+GLuint makeMaxMip(const Image& depth, int* levelCount) {
+    const int width = depth.width();
+    const int height = depth.height();
+    std::vector<std::uint16_t> level(static_cast<std::size_t>(width) * height);
+    const auto texel = [&](int x, int y) {
+        // GL row y is the image row height - 1 - y (uploads are flipped so that t = v).
+        return toUnorm16(depth.at(x % width, height - 1 - (y % height)));
+    };
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            level[static_cast<std::size_t>(y) * width + x] =
+                std::min({texel(x, y), texel(x + 1, y), texel(x, y + 1), texel(x + 1, y + 1)});
+    const int levels = mipLevels(width, height);
+    GLuint texture = 0;
+    glCreateTextures(GL_TEXTURE_2D, 1, &texture);
+    glTextureStorage2D(texture, levels, GL_R16, width, height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    int w = width;
+    int h = height;
+    for (int k = 0; k < levels; ++k) {
+        glTextureSubImage2D(texture, k, 0, 0, w, h, GL_RED, GL_UNSIGNED_SHORT, level.data());
+        if (k + 1 == levels) break;
+        const int nw = std::max(1, w / 2);
+        const int nh = std::max(1, h / 2);
+        std::vector<std::uint16_t> next(static_cast<std::size_t>(nw) * nh);
+        for (int y = 0; y < nh; ++y) {
+            for (int x = 0; x < nw; ++x) {
+                std::uint16_t m = std::numeric_limits<std::uint16_t>::max();
+                for (int dy = 0; dy < (h > 1 ? 2 : 1); ++dy)
+                    for (int dx = 0; dx < (w > 1 ? 2 : 1); ++dx)
+                        m = std::min(m, level[static_cast<std::size_t>(2 * y + dy) * w + (2 * x + dx)]);
+                next[static_cast<std::size_t>(y) * nw + x] = m;
+            }
+        }
+        level = std::move(next);
+        w = nw;
+        h = nh;
+    }
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    *levelCount = levels;
+    return texture;
+}
+
 }  // namespace
 
 GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale) {
@@ -328,6 +383,8 @@ GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale) {
     result.mRelief = makePackedTexture(texture);
     result.mWidth = texture.depth.width();
     result.mHeight = texture.depth.height();
+    if (isPowerOfTwo(result.mWidth) && isPowerOfTwo(result.mHeight))
+        result.mMaxMip = makeMaxMip(texture.depth, &result.mMaxMipLevels);
 
     const Image& color = texture.color;
     result.mColor = makeColorTexture(color);
@@ -634,6 +691,20 @@ void validateRequest(const RenderRequest& request) {
             throw Error(ErrorKind::InvalidInput,
                         "render request: object " + std::to_string(i) + " has no mesh");
         }
+        const GpuMaterial* material = request.objects[i].material;
+        if (request.relief.technique == Technique::MaxMip && material != nullptr) {
+            if (material->isLive()) {
+                throw Error(ErrorKind::InvalidInput, "render request: object " + std::to_string(i) +
+                                                         ": maxmip needs a baked material (--meta baked)");
+            }
+            if (material->maxMipTexture() == 0) {
+                throw Error(ErrorKind::InvalidInput, "render request: object " + std::to_string(i) +
+                                                         ": maxmip needs a depth map whose "
+                                                         "sides are powers of two, got " +
+                                                         std::to_string(material->width()) + "x" +
+                                                         std::to_string(material->height()));
+            }
+        }
     }
 }
 
@@ -815,6 +886,10 @@ void ReliefRenderer::Impl::drawScene(const RenderRequest& request, int width, in
             glBindTextureUnit(0, material != nullptr ? material->reliefTexture() : flatRelief);
             glBindTextureUnit(1, material != nullptr ? material->colorTexture() : white);
             glBindTextureUnit(2, material != nullptr ? material->reliefTexture() : flatRelief);
+        }
+        if (material != nullptr && relief.technique == Technique::MaxMip) {
+            glBindTextureUnit(12, material->maxMipTexture());
+            glProgramUniform1i(id, location("uMaxMipLevels"), material->maxMipLevels());
         }
         glBindSampler(0, sampler);
         // A mirroring model turns counter-clockwise triangles clockwise on screen.

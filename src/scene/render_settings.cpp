@@ -17,6 +17,8 @@ const char* toString(Technique technique) {
             return "parallax";
         case Technique::Relief:
             return "relief";
+        case Technique::MaxMip:
+            return "maxmip";
     }
     return "?";
 }
@@ -48,11 +50,11 @@ const char* toString(AoRescale rescale) {
 }
 
 Technique parseTechnique(const std::string& text) {
-    for (Technique t : {Technique::Texture, Technique::Normal, Technique::Parallax, Technique::Relief}) {
+    for (Technique t : kAllTechniques) {
         if (text == toString(t)) return t;
     }
     throw Error(ErrorKind::InvalidInput,
-                "unknown technique '" + text + "' (expected texture, normal, parallax or relief)");
+                "unknown technique '" + text + "' (expected texture, normal, parallax, relief or maxmip)");
 }
 
 RenderOutput parseRenderOutput(const std::string& text) {

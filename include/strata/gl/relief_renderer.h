@@ -110,6 +110,11 @@ public:
     // uploaded (replacing the previous one) and used by a live material whose liveAo() is Exact.
     void setComposedAo(const Image& ao, double aoDepthScale);
     unsigned composedAoTexture() const { return mComposedAo; }
+    // The maximum mipmap of the depth (Technique::MaxMip): R16, level 0 the highest point (smallest d) of
+    // each bilinear cell, level k of 2^k x 2^k cells. 0 when the depth map's sides are not powers of two
+    // (or for a live material): maxmip then refuses to render.
+    unsigned maxMipTexture() const { return mMaxMip; }
+    int maxMipLevels() const { return mMaxMipLevels; }
 
     double depthScale() const { return mDepthScale; }      // S the normal map is valid for
     double aoDepthScale() const { return mAoDepthScale; }  // S the AO channel is valid for
@@ -133,6 +138,8 @@ private:
     std::optional<MetaAoMode> mLiveAo;
     int mColorLayer = -1;
     unsigned mComposedAo = 0;
+    unsigned mMaxMip = 0;
+    int mMaxMipLevels = 0;
     double mDepthScale = kDefaultDepthScale;
     double mAoDepthScale = kDefaultDepthScale;
     bool mHasAo = false;

@@ -8,7 +8,10 @@
 //   normal    normal mapping: colour and normal at the fragment's own uv;
 //   parallax  parallax mapping with the Kaneko offset uv += (d_top - d) ... (docs/render.md gives the form);
 //   relief    the paper's linear + binary search along the tangent-space view ray (its Sec. 3 and the
-//             appendix's ray_intersect_rm), with self-shadowing by the same search along the light ray.
+//             appendix's ray_intersect_rm), with self-shadowing by the same search along the light ray;
+//   maxmip    exact: maximum-mipmap traversal (Tevs, Ihrke, Seidel 2008) down to the cell, where the ray
+//   meets
+//             the bilinear patch of CONVENTIONS §1 in closed form; no step count (docs/renderer.md).
 #pragma once
 
 #include <glm/vec3.hpp>
@@ -18,7 +21,11 @@
 
 namespace strata {
 
-enum class Technique { Texture, Normal, Parallax, Relief };
+enum class Technique { Texture, Normal, Parallax, Relief, MaxMip };
+
+// Every technique, in the order above.
+inline constexpr Technique kAllTechniques[] = {Technique::Texture, Technique::Normal, Technique::Parallax,
+                                               Technique::Relief, Technique::MaxMip};
 
 // What a pixel of the picture holds (CONVENTIONS §7 for uv, shadow and depth).
 enum class RenderOutput {
