@@ -11,7 +11,8 @@
 // k holds the smallest over 2^k x 2^k cells (uploadMaterial builds it, power-of-two maps only). Nodes wrap
 // like the texture.
 //
-// Traversal (the ray's depth d from 0 to 1 along c(d) = c0 + cd d): at a node of level k whose highest point
+// Traversal (the ray's depth d from 0 to 1 along c(d) = c0 + cd d), from the level whose nodes are about as
+// wide as the ray's travel |cd| (Tevs et al. start at the top): at a node of level k whose highest point
 // is m, a ray that leaves the node's square before reaching depth m cannot meet anything inside: skip to the
 // exit and go up a level; otherwise move down to depth m (nothing above it) and descend. At level 0 solve
 // the cell exactly; if the ray passes, skip to the exit and go up. Every step reads one node
@@ -67,7 +68,9 @@ float maxMipIntersect(vec2 dp, vec2 ds, out int steps) {
     vec2 ahead = step(0.0, cd);
     vec2 inverse = vec2(abs(cd.x) > 1e-20 ? 1.0 / cd.x : 1e30, abs(cd.y) > 1e-20 ? 1.0 / cd.y : 1e30);
     int top = uMaxMipLevels - 1;
-    int level = top;
+    // Start where a node is about as wide as the ray's whole travel through the depth range: a larger one
+    // is never left before the ray reaches its highest point, so reading it only costs a fetch.
+    int level = min(top, int(ceil(log2(max(max(abs(cd.x), abs(cd.y)), 1.0)))));
     float d = 0.0;
     steps = 0;
     for (int iteration = 0; iteration < 1024; ++iteration) {

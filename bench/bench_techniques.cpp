@@ -1,0 +1,327 @@
+// Intersection techniques compared (issue 5, part 4): texture fetches per pixel and error against the exact
+// CPU reference, per technique, view angle and map.
+//
+// Conditions: the verification quad (CONVENTIONS §7), 192^2 pixels, camera at distance 1.6 tilted 30, 60 or
+// 80 degrees from the normal, S = 0.1, maps at 256^2 (16-bit depth): the built-in patterns, and `walls`
+// (1-texel-wide walls at d = 0 every 16 texels over a floor at d = 1). Techniques: relief 32 + 8 and
+// 64 + 8 (the paper's search, adaptive step count), parallax (one fetch), maxmip (exact traversal).
+// Fetches: of the view ray's intersection only (no shadow ray, no shading fetch), counted on the CPU by
+// running each shader's loop on the same rays: relief_search.glsl's reliefIntersect, maxmip.glsl's
+// maxMipIntersect (one fetch per node read, one textureGather per cell solved). Errors: the GL renderer's
+// uv and depth outputs against renderQuadReference: hit/miss disagreement, and uv error in texels over the
+// pixels where both hit, split by the sign of (d - d_exact) along the ray: overshoot (the technique stopped
+// beyond the exact hit: it skipped a feature) and undershoot (it stopped short).
+// Counters: fetches mean / p95 / max, miss% (hit/miss disagreement), over% and under% (share of the pixels
+// off by more than 0.05 texel each way), overP99 / underP99 (99th percentile uv error in texels among those
+// pixels, 0 if none). The benchmark time is that of the whole measurement, not of a frame.
+// Run: build/release/bench/bench_techniques
+#include "strata/gl/context.h"
+#include "strata/gl/relief_renderer.h"
+#include "strata/mesh/builtin_meshes.h"
+#include "strata/relief/patterns.h"
+#include "strata/relief/relief_texture.h"
+#include "strata/scene/camera.h"
+#include "strata/scene/render_settings.h"
+#include "strata/trace/heightfield_tracer.h"
+#include "strata/trace/quad_reference.h"
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace strata;
+
+constexpr double kDepthScale = 0.1;
+constexpr int kMapSize = 256;
+constexpr int kPicture = 192;
+
+struct Context {
+    std::unique_ptr<gl::HeadlessContext> context;
+    std::unique_ptr<gl::ReliefRenderer> renderer;
+    gl::GpuMesh quad;
+    std::string failure;
+};
+
+Context& context() {
+    static Context instance = [] {
+        Context c;
+        try {
+            c.context = gl::HeadlessContext::create();
+            c.renderer = std::make_unique<gl::ReliefRenderer>();
+            c.quad = gl::uploadMesh(makeBuiltinMesh("quad"));
+        } catch (const std::exception& error) {
+            c.failure = error.what();
+        }
+        return c;
+    }();
+    return instance;
+}
+
+Image quantised(Image depth) {
+    for (float& d : depth.pixels()) d = static_cast<float>(std::round(double(d) * 65535.0) / 65535.0);
+    return depth;
+}
+
+ReliefTexture makeMap(const std::string& name) {
+    ReliefTexture texture;
+    if (name == "walls") {
+        texture.depth = Image(kMapSize, kMapSize, 1, 1.0f);
+        for (int y = 0; y < kMapSize; ++y)
+            for (int x = 0; x < kMapSize; ++x)
+                if (x % 16 == 0 || y % 16 == 0) texture.depth.at(x, y) = 0.0f;
+    } else {
+        texture.depth = makePattern(name, {kMapSize, 1, kDepthScale}).depth;
+    }
+    texture.depth = quantised(texture.depth);
+    texture.normal = normalsFromDepth(texture.depth, kDepthScale);
+    texture.depthScale = kDepthScale;
+    return texture;
+}
+
+Camera camera(double angleDegrees) {
+    const double a = angleDegrees * 3.14159265358979323846 / 180.0;
+    Camera c;
+    c.target = {0.5, 0.5, 0.0};
+    c.eye = c.target + 1.6 * glm::dvec3(0.0, -std::sin(a), std::cos(a));
+    c.fovYDegrees = 40.0;
+    return c;
+}
+
+// The maximum mipmap of maxmip.glsl on the CPU, in image rows (v down) with cell (i, j) between texels
+// (i, j) .. (i + 1, j + 1): the traversal below works in the same frame, so the GL row flip does not matter.
+struct MaxMip {
+    std::vector<std::vector<double>> levels;  // levels[k][y * w_k + x]
+    std::vector<int> widths, heights;
+    const Image* depth = nullptr;
+
+    explicit MaxMip(const Image& d) : depth(&d) {
+        int w = d.width(), h = d.height();
+        std::vector<double> level(static_cast<std::size_t>(w) * h);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                level[static_cast<std::size_t>(y) * w + x] = std::min(
+                    {d.at(x, y), d.at((x + 1) % w, y), d.at(x, (y + 1) % h), d.at((x + 1) % w, (y + 1) % h)});
+        for (;;) {
+            levels.push_back(level);
+            widths.push_back(w);
+            heights.push_back(h);
+            if (w == 1 && h == 1) break;
+            const int nw = std::max(1, w / 2), nh = std::max(1, h / 2);
+            std::vector<double> next(static_cast<std::size_t>(nw) * nh, 2.0);
+            for (int y = 0; y < nh; ++y)
+                for (int x = 0; x < nw; ++x)
+                    for (int dy = 0; dy < (h > 1 ? 2 : 1); ++dy)
+                        for (int dx = 0; dx < (w > 1 ? 2 : 1); ++dx)
+                            next[static_cast<std::size_t>(y) * nw + x] =
+                                std::min(next[static_cast<std::size_t>(y) * nw + x],
+                                         level[static_cast<std::size_t>(2 * y + dy) * w + 2 * x + dx]);
+            level = std::move(next);
+            w = nw;
+            h = nh;
+        }
+    }
+    double node(int k, double x, double y) const {
+        const int w = widths[k], h = heights[k];
+        const int ix = static_cast<int>(x - std::floor(x / w) * w),
+                  iy = static_cast<int>(y - std::floor(y / h) * h);
+        return levels[k][static_cast<std::size_t>(iy) * w + ix];
+    }
+    double texel(double x, double y) const {
+        const int w = depth->width(), h = depth->height();
+        const int ix = static_cast<int>(x - std::floor(x / w) * w),
+                  iy = static_cast<int>(y - std::floor(y / h) * h);
+        return depth->at(ix, iy);
+    }
+};
+
+// maxMipIntersect's loop (maxmip.glsl) in double, in image coordinates; returns the fetches it makes.
+int maxMipFetches(const MaxMip& mip, glm::dvec2 c0, glm::dvec2 cd) {
+    const int top = static_cast<int>(mip.levels.size()) - 1;
+    int level = std::min(
+            top, static_cast<int>(std::ceil(std::log2(std::max({std::abs(cd.x), std::abs(cd.y), 1.0}))))),
+        fetches = 0;
+    double d = 0.0;
+    for (int iteration = 0; iteration < 1024; ++iteration) {
+        const double width = std::exp2(level);
+        const glm::dvec2 c = c0 + cd * d;
+        glm::dvec2 node;
+        double dExit = 1.0;
+        for (int a = 0; a < 2; ++a) {
+            const double nudge = (cd[a] > 0   ? 1.0
+                                  : cd[a] < 0 ? -1.0
+                                              : 0.0) *
+                                 std::max(1e-4, std::abs(c[a]) * 5e-7);
+            node[a] = std::floor((c[a] + nudge) / width);
+            if (std::abs(cd[a]) > 1e-20)
+                dExit = std::min(dExit, ((node[a] + (cd[a] >= 0 ? 1 : 0)) * width - c0[a]) / cd[a]);
+        }
+        ++fetches;
+        if (level == 0) {
+            // The cell's bilinear patch: the first crossing of D - d in [d, dExit] (sampled finely enough to
+            // decide whether there is one; the count does not depend on where).
+            bool hit = false;
+            const double a = mip.texel(node.x, node.y), b = mip.texel(node.x + 1, node.y);
+            const double e = mip.texel(node.x, node.y + 1), f = mip.texel(node.x + 1, node.y + 1);
+            for (int i = 0; i <= 64 && !hit; ++i) {
+                const double t = d + (dExit - d) * i / 64.0;
+                const glm::dvec2 p = c0 + cd * t - node;
+                const double depth =
+                    a * (1 - p.x) * (1 - p.y) + b * p.x * (1 - p.y) + e * (1 - p.x) * p.y + f * p.x * p.y;
+                hit = depth <= t;
+            }
+            if (hit || dExit >= 1.0) return fetches;
+            d = dExit;
+            level = std::min(level + 1, top);
+            continue;
+        }
+        const double highest = mip.node(level, node.x, node.y);
+        if (highest > dExit) {
+            if (dExit >= 1.0) return fetches;
+            d = dExit;
+            level = std::min(level + 1, top);
+        } else {
+            d = std::max(d, highest);
+            --level;
+        }
+    }
+    return fetches;
+}
+
+// reliefIntersect's loop (relief_search.glsl) on the bilinear field; returns the fetches.
+int reliefFetches(const HeightFieldTracer& tracer, glm::dvec2 entry, glm::dvec2 ds, double cosTheta,
+                  int linear, int binary) {
+    const int n = adaptiveLinearSteps(linear, cosTheta);
+    int fetches = 0;
+    const double size = 1.0 / n;
+    double depth = 0.0;
+    for (int i = 0; i < n - 1; ++i) {
+        depth += size;
+        ++fetches;
+        const glm::dvec2 uv = entry + ds * depth;
+        if (depth >= tracer.depthAt(uv.x, uv.y)) break;
+    }
+    return fetches + binary;  // the binary search always takes its steps
+}
+
+const std::vector<std::string>& maps() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> list;
+        for (const PatternInfo& info : patternList()) list.push_back(info.name);
+        list.push_back("walls");
+        return list;
+    }();
+    return names;
+}
+
+// Args: technique (0 relief 32+8, 1 relief 64+8, 2 parallax, 3 maxmip), angle, map set (0 = the patterns,
+// 1 = walls).
+void BM_Technique(benchmark::State& state) {
+    Context& c = context();
+    if (!c.failure.empty()) {
+        state.SkipWithError(c.failure.c_str());
+        return;
+    }
+    const int which = static_cast<int>(state.range(0));
+    const double angle = static_cast<double>(state.range(1));
+    const bool walls = state.range(2) == 1;
+    const Camera cam = camera(angle);
+    std::vector<int> fetches;
+    long referenceHits = 0, mismatches = 0, both = 0;
+    std::vector<double> over, under;
+    for (auto _ : state) {
+        for (const std::string& name : maps()) {
+            if ((name == "walls") != walls) continue;
+            const ReliefTexture texture = makeMap(name);
+            const HeightFieldTracer tracer(texture.depth, kDepthScale);
+            const MaxMip mip(texture.depth);
+            const gl::GpuMaterial material = gl::uploadMaterial(texture, kDepthScale);
+            gl::RenderRequest request;
+            request.objects.push_back({&c.quad, glm::dmat4(1.0), &material, glm::dvec3(0.8)});
+            request.camera = cam;
+            request.relief.technique = which == 2   ? Technique::Parallax
+                                       : which == 3 ? Technique::MaxMip
+                                                    : Technique::Relief;
+            request.relief.linearSteps = which == 0 ? 32 : 64;
+            request.relief.binarySteps = 8;
+            request.relief.depthScale = kDepthScale;
+            request.picture.width = request.picture.height = kPicture;
+            request.picture.output = RenderOutput::Uv;
+            const Image uv = c.renderer->render(request);
+            request.picture.output = RenderOutput::Depth;
+            const Image depth = c.renderer->render(request);
+            const QuadReferenceImages reference = renderQuadReference(tracer, cam, kPicture, kPicture, {});
+            for (int y = 0; y < kPicture; ++y) {
+                for (int x = 0; x < kPicture; ++x) {
+                    const bool refHit = reference.uv.at(x, y, 2) > 0.5f;
+                    const bool testHit = uv.at(x, y, 2) > 0.5f;
+                    referenceHits += refHit;
+                    mismatches += refHit != testHit;
+                    if (!refHit || !testHit) continue;
+                    ++both;
+                    // Wrapped uv difference in texels.
+                    double error = 0.0;
+                    for (int a = 0; a < 2; ++a) {
+                        double du = static_cast<double>(uv.at(x, y, a)) -
+                                    static_cast<double>(reference.uv.at(x, y, a));
+                        du -= std::round(du);
+                        error = std::max(error, std::abs(du) * kMapSize);
+                    }
+                    if (error > 0.05) {
+                        (depth.at(x, y) > reference.depth.at(x, y) ? over : under).push_back(error);
+                    }
+                    // Fetches of this pixel's ray.
+                    const glm::dvec3 dir = pixelRayDirection(cam, kPicture, kPicture, x + 0.5, y + 0.5);
+                    const double t = -cam.eye.z / dir.z;
+                    const glm::dvec2 entry(cam.eye.x + t * dir.x, cam.eye.y + t * dir.y);
+                    const glm::dvec2 ds = glm::dvec2(dir.x, dir.y) * kDepthScale / -dir.z;
+                    if (which == 3) {
+                        // Image coordinates: x = u W - 0.5, y = (1 - v) H - 0.5 (rows go down).
+                        const glm::dvec2 c0(entry.x * kMapSize - 0.5, (1.0 - entry.y) * kMapSize - 0.5);
+                        const glm::dvec2 cd(ds.x * kMapSize, -ds.y * kMapSize);
+                        fetches.push_back(maxMipFetches(mip, c0, cd));
+                    } else if (which == 2) {
+                        fetches.push_back(1);
+                    } else {
+                        fetches.push_back(reliefFetches(tracer, entry, ds, -dir.z, which == 0 ? 32 : 64, 8));
+                    }
+                }
+            }
+        }
+    }
+    std::sort(fetches.begin(), fetches.end());
+    std::sort(over.begin(), over.end());
+    std::sort(under.begin(), under.end());
+    double sum = 0.0;
+    for (const int f : fetches) sum += f;
+    const auto p99 = [](const std::vector<double>& v) { return v.empty() ? 0.0 : v[v.size() * 99 / 100]; };
+    state.counters["fetchMean"] = sum / static_cast<double>(std::max<std::size_t>(fetches.size(), 1));
+    state.counters["fetchP95"] = fetches.empty() ? 0 : fetches[fetches.size() * 95 / 100];
+    state.counters["fetchMax"] = fetches.empty() ? 0 : fetches.back();
+    state.counters["miss%"] =
+        100.0 * static_cast<double>(mismatches) / static_cast<double>(std::max(referenceHits, 1L));
+    state.counters["over%"] =
+        100.0 * static_cast<double>(over.size()) / static_cast<double>(std::max(both, 1L));
+    state.counters["under%"] =
+        100.0 * static_cast<double>(under.size()) / static_cast<double>(std::max(both, 1L));
+    state.counters["overP99"] = p99(over);
+    state.counters["underP99"] = p99(under);
+    const char* names[] = {"relief 32+8", "relief 64+8", "parallax", "maxmip"};
+    state.SetLabel(std::string(names[which]) + ", " + std::to_string(static_cast<int>(angle)) + " deg, " +
+                   (walls ? "walls" : "patterns"));
+}
+BENCHMARK(BM_Technique)
+    ->ArgsProduct({{0, 1, 2, 3}, {30, 60, 80}, {0, 1}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
