@@ -14,6 +14,20 @@ find_package(TinyGLTF REQUIRED)                 # libtinygltf-dev: glTF 2.0 mesh
 # The gl layer: OpenGL 4.5 core through libepoxy (libepoxy-dev), headless through EGL (libegl-dev,
 # libegl-mesa0, libgl1-mesa-dri: Mesa, llvmpipe without a GPU). libepoxy resolves both GL and EGL.
 pkg_check_modules(EPOXY REQUIRED IMPORTED_TARGET epoxy)
+
+# --- The viewer (apps/strata-view) -----------------------------------------------------------------------
+# GLFW windows (libglfw3-dev) and Dear ImGui (libimgui-dev 1.86: a static libimgui.a with the GLFW and
+# OpenGL 3 backends compiled in, headers under /usr/include/imgui, and imgui.pc). ImGui's OpenGL 3 backend
+# loads GL through its own bundled gl3w (libGL.so.1 + glXGetProcAddress), Strata's code through libepoxy;
+# both serve the GLFW window's 4.5 core context. Tests run the viewer under xvfb-run (xvfb, xauth).
+# OFF builds everything else; the viewer's end-to-end tests then skip.
+option(STRATA_BUILD_VIEWER "Build the interactive viewer strata-view (GLFW + Dear ImGui)" ON)
+if(STRATA_BUILD_VIEWER)
+  find_package(glfw3 3.3 REQUIRED)              # libglfw3-dev
+  pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)   # libimgui-dev
+endif()
+# ----------------------------------------------------------------------------------------------------------
+
 if(STRATA_BUILD_TESTS)
   find_package(GTest REQUIRED)                  # libgtest-dev
 endif()

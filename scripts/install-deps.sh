@@ -13,6 +13,9 @@ packages=(
   libtinyobjloader-dev libtinygltf-dev
   # OpenGL 4.5 core through libepoxy, headless through EGL on Mesa (llvmpipe when there is no GPU)
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  # the viewer (strata-view): GLFW windows, Dear ImGui with its GLFW / OpenGL 3 backends; its tests run it
+  # under xvfb-run (a virtual X display: xvfb, xauth)
+  libglfw3-dev libimgui-dev xvfb xauth
   # tests and benchmarks; glslangValidator checks every shader
   libgtest-dev libbenchmark-dev glslang-tools
 )

@@ -1,0 +1,83 @@
+// strata-view: the interactive viewer. Thin: it parses the command line and runs the viewer (viewer.h).
+//
+// Exit codes, as the `strata` CLI's (docs/cli.md, docs/viewer.md):
+//   0 success, 1 command line (usage), 2 I/O (a file cannot be read or written),
+//   3 invalid input (a bad material, scene or mesh), 4 runtime failure,
+//   5 unsupported (no display, no OpenGL 4.5 context: run under xvfb-run).
+#include "viewer.h"
+
+#include "strata/core/error.h"
+#include "strata/core/version.h"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <new>
+#include <sstream>
+
+namespace {
+
+// "WxH" -> width, height; malformed or out of [1, 8192] is a command-line error.
+void parseSize(const std::string& text, int& width, int& height) {
+    int w = 0, h = 0;
+    char x = 0;
+    std::istringstream in(text);
+    if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || !in.eof() || w < 1 || h < 1 || w > 8192 || h > 8192)
+        throw strata::Error(
+            strata::ErrorKind::Usage,
+            "--size: expected WxH with both in [1, 8192] (e.g. 1280x720), got '" + text + "'");
+    width = w;
+    height = h;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"strata-view: interactive relief mapping and meta-relief editing (docs/viewer.md)"};
+    app.set_version_flag("--version", std::string("strata-view ") + strata::kVersion);
+    app.footer(
+        "Without a display, run it under a virtual one: xvfb-run -a strata-view --screenshot out.png\n"
+        "Exit codes: 0 ok, 1 usage, 2 I/O, 3 invalid input, 4 runtime, 5 unsupported (e.g. no display).");
+
+    strata::view::ViewerOptions options;
+    std::string size;
+    app.add_option(
+        "material", options.material,
+        "Material JSON, texture set directory (or its strata.json), 'shaped-fabric' (default) or a "
+        "built-in pattern name");
+    app.add_option("--scene", options.sceneFile,
+                   "Scene JSON (docs/scenes.md): mesh, camera, light and relief settings to start from")
+        ->check(CLI::ExistingFile);
+    app.add_option("--mesh", options.mesh,
+                   "Built-in mesh (teapot, cube, sphere, torus, cylinder, plane, quad) or a mesh file");
+    app.add_option("--size", size, "Window size WxH (default 1280x720)");
+    app.add_option("--resolution", options.resolution,
+                   "Composition size while editing, in texels (default 512; saved materials keep theirs)")
+        ->check(CLI::Range(64, 4096));
+    app.add_option("--screenshot", options.screenshot,
+                   "Draw a few frames, save the window as this PNG and exit (works under xvfb-run)");
+    app.add_option("--frames", options.frames,
+                   "Frames to draw before --screenshot reads the window (default 3)")
+        ->check(CLI::Range(1, 100000));
+    app.add_flag("--no-ui", options.hideUi, "Start with the panels hidden (H toggles them)");
+
+    try {
+        app.parse(argc, argv);
+        if (!size.empty()) parseSize(size, options.width, options.height);
+        strata::view::runViewer(options);
+    } catch (const CLI::ParseError& e) {
+        // --help and --version are "errors" with exit code 0 to CLI11; everything else is usage.
+        const int code = app.exit(e);
+        return code == 0 ? 0 : strata::exitCode(strata::ErrorKind::Usage);
+    } catch (const strata::Error& e) {
+        std::cerr << "strata-view: error: " << e.what() << "\n";
+        return strata::exitCode(e.kind());
+    } catch (const std::bad_alloc&) {
+        std::cerr << "strata-view: error: out of memory\n";
+        return strata::exitCode(strata::ErrorKind::Runtime);
+    } catch (const std::exception& e) {
+        std::cerr << "strata-view: error: " << e.what() << "\n";
+        return strata::exitCode(strata::ErrorKind::Runtime);
+    }
+    return 0;
+}

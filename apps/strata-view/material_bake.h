@@ -1,0 +1,64 @@
+// The CPU half of "the material changed -> the texture the renderer draws": the material's layers loaded,
+// composed (paper Eq. 1, 2) and their AO baked, then the AO made to fit the render's depth scale. The
+// same library calls as `strata render` (composeMaterial's steps, aoForRender), with each stage cached so
+// that an edit redoes only what it changes:
+//   layers       a layer is loaded (pattern generated, files read) once, while it stays in the material;
+//   composition  weights, tiling, order, normal mode, AO settings: compose (into the previous buffers) and
+//                the material's AO bake;
+//   render AO    the render's depth scale, with AoRescale::Exact: the AO re-baked at that scale.
+// Not thread-safe: one bake at a time (MaterialPipeline runs them on its worker thread).
+#pragma once
+
+#include "strata/compose/material.h"
+#include "strata/relief/relief_texture.h"
+#include "strata/scene/render_settings.h"
+
+#include <string>
+#include <vector>
+
+namespace strata::view {
+
+// The viewer composes at this size while editing (`--resolution` changes it): 512^2 composes and bakes its
+// AO in about a third of a second on 2 cores, so an edit shows almost at once. Saved materials keep their
+// own "resolution".
+inline constexpr int kDefaultEditResolution = 512;
+
+struct BakeRequest {
+    Material material;                             // layers, weights, tiling, seeds, compose and AO settings
+    int resolution = kDefaultEditResolution;       // composition size (replaces material.compose.resolution)
+    double renderDepthScale = kDefaultDepthScale;  // S the render uses
+    AoRescale aoRescale = AoRescale::Exact;        // Exact re-bakes the AO at renderDepthScale
+};
+
+// Everything a bake's result depends on, as a string: equal keys give equal results.
+std::string bakeKey(const BakeRequest& request);
+
+struct BakeResult {
+    ReliefTexture texture;           // depth, normal, colour (if any), AO (if the material makes one)
+    double aoDepthScale = 0.0;       // S the AO map is valid at (uploadMaterial's argument)
+    std::vector<std::string> notes;  // composition warnings (fractional tiling) and loader notes
+    int layersLoaded = 0;            // layers loaded by this bake (0 when all came from the cache)
+    bool composed = false;           // whether this bake composed (false: only the render AO changed)
+    double loadSeconds = 0.0;
+    double composeSeconds = 0.0;
+    double aoSeconds = 0.0;  // material AO and render AO
+};
+
+class MaterialBaker {
+public:
+    // Throws like loadLayers, compose, metaReliefAo and bakeAo (Error naming the layer and value).
+    // After a failure the caches stay valid for the next request.
+    BakeResult bake(const BakeRequest& request);
+
+private:
+    std::vector<CompositionLayer> mLayers;  // the last request's layers, loaded
+    std::vector<std::string> mLayerKeys;
+    std::string mCompositionKey;
+    Composition mComposition;
+    Image mMaterialAo;
+    std::string mRenderAoKey;
+    Image mRenderAo;
+    double mRenderAoDepthScale = 0.0;
+};
+
+}  // namespace strata::view

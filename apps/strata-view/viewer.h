@@ -1,0 +1,35 @@
+// strata-view: the interactive viewer. A GLFW window with an OpenGL 4.5 core context, the relief renderer
+// of `strata render` (gl::ReliefRenderer::draw into the window's framebuffer) and Dear ImGui panels on
+// top. docs/viewer.md describes the panels and controls.
+#pragma once
+
+#include "material_bake.h"
+
+#include <filesystem>
+#include <string>
+
+namespace strata::view {
+
+// Frames drawn before --screenshot reads the window back: the first builds the shader programs and lets
+// ImGui lay its windows out; by the third everything is in place.
+inline constexpr int kScreenshotFrames = 3;
+
+struct ViewerOptions {
+    std::string material;             // a material JSON, a texture set, or a built-in name; "" = the scene's
+    std::filesystem::path sceneFile;  // optional scene JSON (docs/scenes.md) for mesh, camera, light, relief
+    std::string mesh;                 // a built-in mesh name or a mesh file; "" = the scene's (teapot)
+    int width = 1280;                 // window size in screen coordinates
+    int height = 720;
+    int resolution = kDefaultEditResolution;  // composition size while editing
+    std::filesystem::path screenshot;         // set: draw `frames` frames, save the window as PNG, exit
+    int frames = kScreenshotFrames;
+    bool hideUi = false;  // start with the panels hidden (H toggles them)
+};
+
+// Runs the viewer until its window is closed (or, with a screenshot, until it is written).
+// Throws Error: Io or InvalidInput for the material, mesh or scene (before any window opens), Unsupported
+// when there is no display or no OpenGL 4.5 core context (with a hint to use xvfb-run), Io when the
+// screenshot cannot be written, Runtime for a GL failure.
+void runViewer(const ViewerOptions& options);
+
+}  // namespace strata::view

@@ -1,0 +1,364 @@
+// The viewer's Dear ImGui panels: Scene (mesh, technique, depth scale, AO, light, camera), Material (the
+// meta-relief layers), Save, and the frame-time overlay. Panels only edit the viewer's state; the frame
+// loop (viewer.cpp) turns that state into a render request and a bake request every frame.
+#include "viewer_app.h"
+
+#include "strata/core/error.h"
+#include "strata/core/file.h"
+#include "strata/mesh/builtin_meshes.h"
+#include "strata/mesh/mesh_loader.h"
+#include "strata/relief/patterns.h"
+
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+#include <cstdint>
+
+namespace fs = std::filesystem;
+
+namespace strata::view {
+
+namespace {
+
+constexpr float kPanelWidth = 330.0f;
+constexpr float kMargin = 8.0f;
+const ImVec4 kErrorColor(1.0f, 0.45f, 0.4f, 1.0f);
+const ImVec4 kDimColor(0.65f, 0.65f, 0.65f, 1.0f);
+
+bool sliderDouble(const char* label, double& value, double lo, double hi, const char* format,
+                  bool logarithmic = false) {
+    return ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &lo, &hi, format,
+                               logarithmic ? ImGuiSliderFlags_Logarithmic : ImGuiSliderFlags_None);
+}
+
+// A combo over `names`; returns true when the choice changed.
+bool comboNames(const char* label, const std::vector<std::string>& names, std::string& current) {
+    bool changed = false;
+    if (ImGui::BeginCombo(label, current.c_str())) {
+        for (const std::string& name : names) {
+            const bool selected = name == current;
+            if (ImGui::Selectable(name.c_str(), selected) && !selected) {
+                current = name;
+                changed = true;
+            }
+            if (selected) ImGui::SetItemDefaultFocus();
+        }
+        ImGui::EndCombo();
+    }
+    return changed;
+}
+
+// A panel that fits its content, but no taller than the window above the frame-time overlay (it scrolls).
+void fitToWindow() {
+    const float height = ImGui::GetMainViewport()->WorkSize.y - 2.0f * kMargin - 40.0f;
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0.0f, 0.0f), ImVec2(10000.0f, std::max(height, 100.0f)));
+}
+
+// A titled separator (ImGui 1.86 has no SeparatorText).
+void section(const char* title) {
+    ImGui::Spacing();
+    ImGui::TextColored(kDimColor, "%s", title);
+    ImGui::Separator();
+}
+
+std::vector<std::string> patternNames() {
+    std::vector<std::string> names;
+    for (const PatternInfo& info : patternList()) names.push_back(info.name);
+    return names;
+}
+
+std::string layerTitle(const MaterialLayer& layer, int index) {
+    std::string title = std::to_string(index) + ": ";
+    if (layer.pattern) {
+        title += *layer.pattern;
+        if (!layer.name.empty()) title += " (" + layer.name + ")";
+    } else {
+        title += layer.name.empty() ? std::string("files") : layer.name;
+        title += " (files)";
+    }
+    return title;
+}
+
+}  // namespace
+
+void Viewer::setStatus(std::string message, bool error) {
+    mStatus = std::move(message);
+    mStatusIsError = error;
+}
+
+void Viewer::drawPanels() {
+    scenePanel();
+    materialPanel();
+    statsOverlay();
+}
+
+void Viewer::scenePanel() {
+    ImGui::SetNextWindowPos(ImVec2(kMargin, kMargin), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(kPanelWidth, 0.0f), ImGuiCond_FirstUseEver);
+    fitToWindow();
+    if (!ImGui::Begin("Scene")) {
+        ImGui::End();
+        return;
+    }
+    ImGui::PushItemWidth(-130.0f);
+
+    // Mesh: a built-in, or a file.
+    std::string meshName = fs::exists(mMesh.name) ? std::string("(file)") : mMesh.name;
+    if (comboNames("mesh", builtinMeshList(), meshName)) {
+        try {
+            BuiltinMeshParams params;
+            if (mScene.tessellation > 0) params.tessellation = mScene.tessellation;
+            setMesh(makeBuiltinMesh(meshName, params));
+            mScene.mesh = meshName;
+        } catch (const Error& e) {
+            setStatus(e.what(), true);
+        }
+    }
+    ImGui::InputTextWithHint("##meshfile", ".obj / .gltf / .glb", &mMeshFile);
+    ImGui::SameLine();
+    if (ImGui::Button("load mesh")) {
+        try {
+            setMesh(loadMesh(mMeshFile));
+            mScene.mesh = mMeshFile;
+            setStatus("loaded " + mMeshFile, false);
+        } catch (const Error& e) {
+            setStatus(e.what(), true);
+        }
+    }
+
+    section("relief");
+    ReliefSettings& relief = mScene.relief;
+    int technique = static_cast<int>(relief.technique);
+    if (ImGui::Combo("technique", &technique, "texture\0normal\0parallax\0relief\0maxmip\0"))
+        relief.technique = static_cast<Technique>(technique);
+    ImGui::BeginDisabled(relief.technique != Technique::Relief);
+    ImGui::SliderInt("linear steps", &relief.linearSteps, 1, 256, "%d", ImGuiSliderFlags_Logarithmic);
+    ImGui::SliderInt("binary steps", &relief.binarySteps, 0, 32);
+    ImGui::EndDisabled();
+    sliderDouble("depth scale S", mDepthScale, 0.005, 0.5, "%.3f", true);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("S0")) mDepthScale = mMaterial.compose.depthScale;
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("back to the material's S = %.3f", mMaterial.compose.depthScale);
+    sliderDouble("tiling", relief.tiling, 0.25, 32.0, "%.2f", true);
+    ImGui::Checkbox("self-shadowing", &relief.selfShadow);
+    ImGui::Checkbox("depth correction", &relief.depthCorrection);
+
+    section("ambient occlusion");
+    ImGui::Checkbox("AO", &relief.ao);
+    int rescale = relief.aoRescale == AoRescale::Paper ? 0 : relief.aoRescale == AoRescale::Exact ? 1 : 2;
+    ImGui::BeginDisabled(!relief.ao);
+    if (ImGui::Combo("AO rescale", &rescale, "paper (Eq. 6)\0exact (re-bake)\0off\0"))
+        relief.aoRescale = rescale == 0 ? AoRescale::Paper : rescale == 1 ? AoRescale::Exact : AoRescale::Off;
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "How the AO baked at the material's S follows another depth scale:\n"
+            "paper: the meta-relief paper's Eq. 4-6 per fragment; exact: re-baked at S;\n"
+            "off: used as baked.");
+
+    section("light");
+    bool lightChanged = sliderDouble("azimuth", mLightAzimuth, -180.0, 180.0, "%.0f deg");
+    lightChanged |= sliderDouble("elevation", mLightElevation, -10.0, 90.0, "%.0f deg");
+    if (lightChanged) updateLight();
+    sliderDouble("ambient", mScene.lighting.ambient, 0.0, 1.0, "%.2f");
+
+    section("camera");
+    ImGui::TextColored(kDimColor, "left drag: orbit    wheel: zoom");
+    ImGui::TextColored(kDimColor, "right or middle drag, shift + left drag: pan");
+    if (ImGui::Button("reset camera (R)")) resetCamera();
+    ImGui::SameLine();
+    ImGui::TextColored(kDimColor, "H: hide panels");
+
+    savePanel();
+    if (!mStatus.empty()) {
+        ImGui::Separator();
+        ImGui::PushTextWrapPos(0.0f);
+        if (mStatusIsError)
+            ImGui::TextColored(kErrorColor, "%s", mStatus.c_str());
+        else
+            ImGui::TextUnformatted(mStatus.c_str());
+        ImGui::PopTextWrapPos();
+    }
+    ImGui::PopItemWidth();
+    ImGui::End();
+}
+
+void Viewer::savePanel() {
+    section("save");
+    ImGui::InputText("##materialpath", &mMaterialPath);
+    ImGui::SameLine();
+    if (ImGui::Button("save material")) {
+        try {
+            const fs::path path(mMaterialPath);
+            std::vector<fs::path> others;
+            if (fs::exists(mMesh.name)) others.push_back(mMesh.name);
+            if (!mOptions.sceneFile.empty()) others.push_back(mOptions.sceneFile);
+            refuseToOverwriteInputs(path, others);
+            saveMaterial(mMaterial, path);
+            setStatus("wrote " + mMaterialPath, false);
+        } catch (const Error& e) {
+            setStatus(e.what(), true);
+        }
+    }
+    ImGui::InputText("##screenshotpath", &mScreenshotPath);
+    ImGui::SameLine();
+    if (ImGui::Button("screenshot (S)")) mCaptureRequested = true;
+    ImGui::Checkbox("screenshot with panels", &mScreenshotWithUi);
+}
+
+void Viewer::materialPanel() {
+    const ImGuiViewport* viewport = ImGui::GetMainViewport();
+    ImGui::SetNextWindowPos(ImVec2(viewport->WorkSize.x - kPanelWidth - kMargin, kMargin),
+                            ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(kPanelWidth, 0.0f), ImGuiCond_FirstUseEver);
+    fitToWindow();
+    if (!ImGui::Begin("Material")) {
+        ImGui::End();
+        return;
+    }
+    ImGui::PushItemWidth(-120.0f);
+
+    int removeIndex = -1, moveFrom = -1, moveTo = -1;
+    for (int i = 0; i < static_cast<int>(mMaterial.layers.size()); ++i)
+        layerControls(i, removeIndex, moveFrom, moveTo);
+    // Structural edits after the loop, so that it never walks a list that changed under it.
+    if (removeIndex >= 0) removeLayer(mMaterial, removeIndex);
+    if (moveFrom >= 0) moveLayer(mMaterial, moveFrom, moveTo);
+
+    addLayerControls();
+
+    section("composition");
+    int normals = mMaterial.compose.normals == NormalMode::Paper ? 0 : 1;
+    if (ImGui::Combo("normals", &normals, "paper (Eq. 1)\0consistent\0"))
+        mMaterial.compose.normals = normals == 0 ? NormalMode::Paper : NormalMode::Consistent;
+    int ao = !mMaterial.ao ? 3 : static_cast<int>(*mMaterial.ao);
+    if (ImGui::Combo("material AO", &ao, "exact\0multiply\0min\0none\0")) {
+        if (ao == 3)
+            mMaterial.ao.reset();
+        else
+            mMaterial.ao = static_cast<MetaAoMode>(ao);
+    }
+
+    // What the pipeline is doing: the bake runs on a worker thread, the window keeps the last result.
+    ImGui::Separator();
+    ImGui::PushTextWrapPos(0.0f);
+    if (mPipeline.busy()) {
+        ImGui::TextColored(ImVec4(1.0f, 0.85f, 0.4f, 1.0f), "composing %d^2 ...", mOptions.resolution);
+    } else if (!mPipeline.error().empty()) {
+        ImGui::TextColored(kErrorColor, "%s", mPipeline.error().c_str());
+    } else {
+        const BakeResult& bake = mPipeline.lastBake();
+        ImGui::TextColored(kDimColor, "%d^2: %.0f ms (load %.0f, compose %.0f, AO %.0f)", mOptions.resolution,
+                           mPipeline.lastSeconds() * 1e3, bake.loadSeconds * 1e3, bake.composeSeconds * 1e3,
+                           bake.aoSeconds * 1e3);
+        for (const std::string& note : bake.notes) ImGui::TextColored(kDimColor, "note: %s", note.c_str());
+    }
+    ImGui::PopTextWrapPos();
+    ImGui::PopItemWidth();
+    ImGui::End();
+}
+
+void Viewer::layerControls(int index, int& removeIndex, int& moveFrom, int& moveTo) {
+    MaterialLayer& layer = mMaterial.layers[static_cast<std::size_t>(index)];
+    const int count = static_cast<int>(mMaterial.layers.size());
+    ImGui::PushID(index);
+    const bool open =
+        ImGui::CollapsingHeader(layerTitle(layer, index).c_str(), ImGuiTreeNodeFlags_DefaultOpen);
+    // Order and removal on the header's line.
+    ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 70.0f);
+    ImGui::BeginDisabled(index == 0);
+    if (ImGui::ArrowButton("up", ImGuiDir_Up)) moveFrom = index, moveTo = index - 1;
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(index == count - 1);
+    if (ImGui::ArrowButton("down", ImGuiDir_Down)) moveFrom = index, moveTo = index + 1;
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(count == 1);
+    if (ImGui::SmallButton("x")) removeIndex = index;
+    ImGui::EndDisabled();
+    if (open) {
+        sliderDouble("depth weight", layer.weightDepth, 0.0, 2.0, "%.3f");
+        sliderDouble("normal weight", layer.weightNormal, 0.0, 2.0, "%.3f");
+        sliderDouble("layer tiling", layer.tiling, 0.25, 64.0, "%.2f", true);
+        if (layer.pattern) {
+            const std::uint32_t step = 1;
+            ImGui::InputScalar("seed", ImGuiDataType_U32, &layer.patternParams.seed, &step);
+            int sizeLog = static_cast<int>(std::lround(std::log2(layer.patternParams.size)));
+            if (ImGui::SliderInt("size", &sizeLog, 6, 11, "")) layer.patternParams.size = 1 << sizeLog;
+            ImGui::SameLine(0.0f, 0.0f);
+            ImGui::TextColored(kDimColor, " %d^2", layer.patternParams.size);
+        } else {
+            const fs::path& file = layer.depthFile ? *layer.depthFile : *layer.heightFile;
+            ImGui::TextColored(kDimColor, "%s %s", layer.depthFile ? "depth" : "height",
+                               file.string().c_str());
+        }
+        if (hasColor(layer)) {
+            if (ImGui::RadioButton("colour from this layer", mMaterial.compose.colorFrom == index))
+                mMaterial.compose.colorFrom = index;
+        }
+    }
+    ImGui::PopID();
+}
+
+void Viewer::addLayerControls() {
+    section("add a layer");
+    static const std::vector<std::string> names = patternNames();
+    comboNames("pattern", names, mAddPattern);
+    ImGui::InputInt("seed##add", &mAddSeed);
+    mAddSeed = std::max(mAddSeed, 0);
+    if (ImGui::Button("add pattern layer")) {
+        MaterialLayer layer = patternLayer(mAddPattern, 512, static_cast<std::uint32_t>(mAddSeed));
+        // A new detail layer starts fine and light, like the paper's examples (fabric at 8, weight 0.3).
+        layer.tiling = 4.0;
+        layer.weightDepth = 0.3;
+        layer.weightNormal = 0.3;
+        addLayer(mMaterial, std::move(layer));
+    }
+    ImGui::InputTextWithHint("depth / height", "file (0 = top) or texture set dir", &mAddDepthFile);
+    ImGui::Checkbox("height map (white = high)", &mAddIsHeight);
+    ImGui::InputTextWithHint("normal", "optional", &mAddNormalFile);
+    ImGui::InputTextWithHint("colour", "optional", &mAddColorFile);
+    if (ImGui::Button("add file layer")) {
+        try {
+            MaterialLayer layer;
+            if (fs::is_directory(mAddDepthFile)) {
+                layer = openMaterial(mAddDepthFile).layers.front();  // a texture set: its maps
+            } else {
+                layer = fileLayer(mAddDepthFile, mAddIsHeight, mAddNormalFile, mAddColorFile);
+            }
+            // Read it now, so that a bad file is reported here and never enters the material.
+            Material single;
+            single.compose = mMaterial.compose;
+            single.layers = {layer};
+            loadLayers(single);
+            addLayer(mMaterial, std::move(layer));
+            setStatus("added " + mAddDepthFile, false);
+        } catch (const Error& e) {
+            setStatus(e.what(), true);
+        }
+    }
+}
+
+void Viewer::statsOverlay() {
+    const ImGuiViewport* viewport = ImGui::GetMainViewport();
+    ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x * 0.5f,
+                                   viewport->WorkPos.y + viewport->WorkSize.y - kMargin),
+                            ImGuiCond_Always, ImVec2(0.5f, 1.0f));
+    ImGui::SetNextWindowBgAlpha(0.55f);
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
+                                   ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove;
+    if (ImGui::Begin("frame time", nullptr, flags)) {
+        const double frameMs = mFrameMs.mean();
+        ImGui::Text("frame %.1f ms (%.1f fps)  scene %.1f ms  %dx%d  %s", frameMs,
+                    frameMs > 0.0 ? 1000.0 / frameMs : 0.0, mSceneMs.mean(),
+                    static_cast<int>(viewport->WorkSize.x), static_cast<int>(viewport->WorkSize.y),
+                    mRendererName.c_str());
+    }
+    ImGui::End();
+}
+
+}  // namespace strata::view
