@@ -59,6 +59,10 @@ int main(int argc, char** argv) {
     app.add_option("--frames", options.frames,
                    "Frames to draw before --screenshot reads the window (default 3)")
         ->check(CLI::Range(1, 100000));
+    app.add_option("--meta", options.meta,
+                   "How the meta-relief reaches the shader: baked (composed on the CPU, default) or live "
+                   "(its layers combined per fragment; weights change without a re-bake)")
+        ->check(CLI::IsMember({"baked", "live"}));
     app.add_flag("--no-ui", options.hideUi, "Start with the panels hidden (H toggles them)");
 
     try {

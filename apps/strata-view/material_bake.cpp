@@ -58,67 +58,79 @@ std::string bakeKey(const BakeRequest& request) {
     return key.str();
 }
 
+MaterialBaker::KeepLayers::~KeepLayers() {
+    for (std::size_t k = 0; k < layers.size(); ++k) {
+        if (layers[k].texture.depth.empty()) continue;
+        baker.mLayers.push_back(std::move(layers[k]));
+        baker.mLayerKeys.push_back(keys[k]);
+    }
+}
+
+void MaterialBaker::takeLayers(const Material& material, BakeResult& result,
+                               std::vector<CompositionLayer>& layers, std::vector<std::string>& keys) {
+    // Layers: reuse what the previous request loaded, load the rest (one layer at a time through the
+    // library's loadLayers, so a layer means exactly what it means to `strata compose`). Entries left
+    // behind by the previous request that this one does not take are dropped.
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<CompositionLayer> previous = std::move(mLayers);
+    std::vector<std::string> previousKeys = std::move(mLayerKeys);
+    mLayers.clear();
+    mLayerKeys.clear();
+    for (std::size_t i = 0; i < material.layers.size(); ++i) {
+        const MaterialLayer& spec = material.layers[i];
+        const std::string key = layerKey(spec, material.compose.depthScale);
+        CompositionLayer layer;
+        bool found = false;
+        for (std::size_t j = 0; j < previousKeys.size() && !found; ++j) {
+            if (previousKeys[j] == key && !previous[j].texture.depth.empty()) {
+                layer = std::move(previous[j]);  // a second copy of the same layer loads its own
+                found = true;
+            }
+        }
+        if (!found) {
+            Material single;
+            single.source = material.source;
+            single.compose = material.compose;
+            single.layers = {spec};
+            layer = std::move(loadLayers(single, &result.notes).front());
+            ++result.layersLoaded;
+        }
+        layer.label = "layers[" + std::to_string(i) + "]";
+        if (!spec.name.empty())
+            layer.label += " (" + spec.name + ")";
+        else if (spec.pattern)
+            layer.label += " (" + *spec.pattern + ")";
+        layer.tiling = spec.tiling;
+        layer.weightDepth = spec.weightDepth;
+        layer.weightNormal = spec.weightNormal;
+        layers.push_back(std::move(layer));
+        keys.push_back(key);
+    }
+    result.loadSeconds = secondsSince(start);
+}
+
+std::vector<CompositionLayer> MaterialBaker::layers(const BakeRequest& request, BakeResult& report) {
+    std::vector<CompositionLayer> layers;
+    std::vector<std::string> keys;
+    std::vector<CompositionLayer> copy;
+    {
+        const KeepLayers keep{*this, layers, keys};
+        takeLayers(request.material, report, layers, keys);
+        copy = layers;  // the cache keeps its own
+    }
+    return copy;
+}
+
 BakeResult MaterialBaker::bake(const BakeRequest& request) {
     const Material& material = request.material;
     BakeResult result;
-
-    // Layers: reuse what the previous request loaded, load the rest (one layer at a time through the
-    // library's loadLayers, so a layer means exactly what it means to `strata compose`).
-    auto start = std::chrono::steady_clock::now();
     std::vector<CompositionLayer> layers;
     std::vector<std::string> keys;
-    // Whatever happens below (a layer that fails to load, weights that sum to 0), the layers loaded so far
-    // stay cached for the next request.
-    struct KeepLayers {
-        MaterialBaker& baker;
-        std::vector<CompositionLayer>& layers;
-        std::vector<std::string>& keys;
-        ~KeepLayers() {
-            for (std::size_t k = 0; k < layers.size(); ++k) {
-                if (layers[k].texture.depth.empty()) continue;
-                baker.mLayers.push_back(std::move(layers[k]));
-                baker.mLayerKeys.push_back(keys[k]);
-            }
-        }
-    };
     {
-        // Entries left behind by the previous request that this one does not take are dropped below.
-        std::vector<CompositionLayer> previous = std::move(mLayers);
-        std::vector<std::string> previousKeys = std::move(mLayerKeys);
-        mLayers.clear();
-        mLayerKeys.clear();
+        // Whatever happens below (a layer that fails to load, weights that sum to 0), the layers loaded so
+        // far stay cached for the next request.
         const KeepLayers keep{*this, layers, keys};
-        for (std::size_t i = 0; i < material.layers.size(); ++i) {
-            const MaterialLayer& spec = material.layers[i];
-            const std::string key = layerKey(spec, material.compose.depthScale);
-            CompositionLayer layer;
-            bool found = false;
-            for (std::size_t j = 0; j < previousKeys.size() && !found; ++j) {
-                if (previousKeys[j] == key && !previous[j].texture.depth.empty()) {
-                    layer = std::move(previous[j]);  // a second copy of the same layer loads its own
-                    found = true;
-                }
-            }
-            if (!found) {
-                Material single;
-                single.source = material.source;
-                single.compose = material.compose;
-                single.layers = {spec};
-                layer = std::move(loadLayers(single, &result.notes).front());
-                ++result.layersLoaded;
-            }
-            layer.label = "layers[" + std::to_string(i) + "]";
-            if (!spec.name.empty())
-                layer.label += " (" + spec.name + ")";
-            else if (spec.pattern)
-                layer.label += " (" + *spec.pattern + ")";
-            layer.tiling = spec.tiling;
-            layer.weightDepth = spec.weightDepth;
-            layer.weightNormal = spec.weightNormal;
-            layers.push_back(std::move(layer));
-            keys.push_back(key);
-        }
-        result.loadSeconds = secondsSince(start);
+        takeLayers(material, result, layers, keys);
 
         // Composition and the material's own AO (what composeMaterial does), when anything they read
         // changed.
@@ -128,7 +140,7 @@ BakeResult MaterialBaker::bake(const BakeRequest& request) {
             mRenderAoKey.clear();
             ComposeParams params = material.compose;
             params.resolution = request.resolution;
-            start = std::chrono::steady_clock::now();
+            auto start = std::chrono::steady_clock::now();
             composeInto(layers, params, mComposition);
             result.composeSeconds = secondsSince(start);
             result.notes.insert(result.notes.end(), mComposition.warnings.begin(),
@@ -149,7 +161,7 @@ BakeResult MaterialBaker::bake(const BakeRequest& request) {
     // The AO for the render's depth scale (`strata render` does the same: aoForRender).
     const std::string renderKey = bakeKey(request);
     if (renderKey != mRenderAoKey) {
-        start = std::chrono::steady_clock::now();
+        const auto start = std::chrono::steady_clock::now();
         mRenderAo =
             aoForRender(result.texture, request.renderDepthScale, request.aoRescale, &mRenderAoDepthScale);
         result.aoSeconds += secondsSince(start);

@@ -12,6 +12,7 @@
 #include "strata/compose/material.h"
 #include "strata/relief/relief_texture.h"
 #include "strata/scene/render_settings.h"
+#include "strata/scene/scene.h"
 
 #include <string>
 #include <vector>
@@ -28,6 +29,9 @@ struct BakeRequest {
     int resolution = kDefaultEditResolution;       // composition size (replaces material.compose.resolution)
     double renderDepthScale = kDefaultDepthScale;  // S the render uses
     AoRescale aoRescale = AoRescale::Exact;        // Exact re-bakes the AO at renderDepthScale
+    // How the material reaches the GPU (MaterialPipeline): Baked composes it here; Live uploads the loaded
+    // layers (layers()) and bakes only the AO of the composed depth, for material AO "exact".
+    MetaPath meta = MetaPath::Baked;
 };
 
 // Everything a bake's result depends on, as a string: equal keys give equal results.
@@ -50,7 +54,23 @@ public:
     // After a failure the caches stay valid for the next request.
     BakeResult bake(const BakeRequest& request);
 
+    // The live path's stage: the request's layers, loaded (or taken from the cache that bake() shares),
+    // with their tilings and weights and labels as bake() composes them. `report` gets layersLoaded,
+    // loadSeconds and the loaders' notes. Throws like loadLayers; the cache stays valid.
+    std::vector<CompositionLayer> layers(const BakeRequest& request, BakeResult& report);
+
 private:
+    // Moves the cached layers that `material` keeps into `layers` (keys beside them) and loads the rest.
+    // The caller holds a KeepLayers over both vectors, which puts them back into the cache whatever happens.
+    void takeLayers(const Material& material, BakeResult& result, std::vector<CompositionLayer>& layers,
+                    std::vector<std::string>& keys);
+    struct KeepLayers {
+        MaterialBaker& baker;
+        std::vector<CompositionLayer>& layers;
+        std::vector<std::string>& keys;
+        ~KeepLayers();
+    };
+
     std::vector<CompositionLayer> mLayers;  // the last request's layers, loaded
     std::vector<std::string> mLayerKeys;
     std::string mCompositionKey;

@@ -1,10 +1,42 @@
 #include "material_pipeline.h"
 
+#include "material_document.h"
+
 #include "strata/core/error.h"
+
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 
 namespace strata::view {
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool layerAoAtUpload(const Material& material) {
+    return material.ao == MetaAoMode::Multiply || material.ao == MetaAoMode::Min;
+}
+
+// What a live upload depends on: the material without its layers' tilings and weights (setLayer changes
+// those) and without the composition size (not used live). With per-layer AO ("multiply", "min") a layer
+// whose depth weight is 0 at upload gets no AO map (uploadLiveMaterial skips it), so crossing 0 uploads
+// again.
+std::string liveKey(const BakeRequest& request) {
+    Material material = request.material;
+    material.compose.resolution = kDefaultEditResolution;
+    const bool layerAo = layerAoAtUpload(material);
+    for (MaterialLayer& layer : material.layers) {
+        layer.tiling = 1.0;
+        layer.weightDepth = !layerAo || layer.weightDepth > 0.0 ? 1.0 : 0.0;
+        layer.weightNormal = 1.0;
+    }
+    return materialToJson(material, "/").dump();
+}
+
+}  // namespace
 
 MaterialPipeline::MaterialPipeline() = default;
 
@@ -12,40 +44,164 @@ MaterialPipeline::~MaterialPipeline() {
     if (mJob.valid()) mJob.wait();
 }
 
+void MaterialPipeline::start(std::string key, std::string activity, std::function<Work()> job) {
+    mSubmittedKey = std::move(key);
+    mActivity = std::move(activity);
+    mJobStart = std::chrono::steady_clock::now();
+    ++mJobsStarted;
+    mJob = std::async(std::launch::async, std::move(job));
+}
+
 const gl::GpuMaterial* MaterialPipeline::update(const BakeRequest& request) {
     if (mJob.valid() && mJob.wait_for(std::chrono::seconds(0)) == std::future_status::ready) collect();
+    if (request.meta == MetaPath::Live) return updateLive(request);
+    mLayerError.clear();
     if (!mJob.valid()) {
         std::string key = bakeKey(request);
         if (key != mSubmittedKey) {
-            mSubmittedKey = std::move(key);
-            mJobStart = std::chrono::steady_clock::now();
             // The request is copied: the caller keeps editing its own while the worker bakes this one.
-            mJob = std::async(std::launch::async, [this, request] { return mBaker.bake(request); });
+            start(std::move(key), "composing", [this, request] {
+                Work work;
+                work.bake = mBaker.bake(request);
+                return work;
+            });
         }
     }
     return mGpu.get();
 }
 
+const gl::GpuMaterial* MaterialPipeline::updateLive(const BakeRequest& request) {
+    const std::string structure = liveKey(request);
+    const bool exactAo = request.material.ao == MetaAoMode::Exact;
+    const std::string aoKey = exactAo ? bakeKey(request) : std::string();
+    const bool uploaded = mGpu && mGpu->isLive() && mLiveKey == structure;
+    // Weights and tilings: uniforms, now.
+    if (uploaded) applyLayers(request);
+    if (!mJob.valid()) {
+        const bool needUpload = !uploaded;
+        const bool needAo = exactAo && (needUpload || mComposedAoKey != aoKey);
+        std::string key = "live " + structure + " ao " + aoKey;
+        if ((needUpload || needAo) && key != mSubmittedKey) {
+            const char* activity = needUpload ? "loading layers" : "baking the composed AO";
+            start(std::move(key), activity, [this, request, structure, needUpload, needAo, aoKey] {
+                Work work;
+                work.live = true;
+                work.liveKey = structure;
+                work.upload = needUpload;
+                work.material = request.material;
+                if (needUpload) work.layers = mBaker.layers(request, work.bake);
+                if (needAo) {
+                    // The composition and its exact AO (at the render's S with AoRescale::Exact), as the
+                    // baked path makes them; the layers come from the cache filled above.
+                    BakeResult bake = mBaker.bake(request);
+                    bake.layersLoaded += work.bake.layersLoaded;
+                    bake.loadSeconds += work.bake.loadSeconds;
+                    bake.notes.insert(bake.notes.begin(), work.bake.notes.begin(), work.bake.notes.end());
+                    work.bake = std::move(bake);
+                    work.composedAo = true;
+                    work.composedAoKey = aoKey;
+                }
+                return work;
+            });
+        }
+    }
+    return mGpu.get();
+}
+
+void MaterialPipeline::applyLayers(const BakeRequest& request) {
+    const std::vector<MaterialLayer>& layers = request.material.layers;
+    const std::vector<gl::GpuLayer>& gpuLayers = mGpu->layers();
+    if (layers.size() != gpuLayers.size()) return;  // cannot happen: the layer count is in the live key
+    std::vector<int> pending;
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+        if (layers[i].tiling != gpuLayers[i].tiling || layers[i].weightDepth != gpuLayers[i].weightDepth ||
+            layers[i].weightNormal != gpuLayers[i].weightNormal)
+            pending.push_back(static_cast<int>(i));
+    }
+    if (pending.empty()) {
+        mLayerError.clear();
+        return;
+    }
+    // setLayer checks the sums after each layer: a change that moves weight from one layer to another may
+    // pass only in one order, so a layer refused is tried again after the others.
+    const auto start = std::chrono::steady_clock::now();
+    std::string message;
+    while (!pending.empty()) {
+        std::vector<int> refused;
+        for (int i : pending) {
+            const MaterialLayer& layer = layers[static_cast<std::size_t>(i)];
+            try {
+                mGpu->setLayer(i, layer.tiling, layer.weightDepth, layer.weightNormal);
+            } catch (const Error& e) {
+                refused.push_back(i);
+                message = e.what();
+            }
+        }
+        if (refused.size() == pending.size()) break;
+        pending = std::move(refused);
+    }
+    if (pending.empty()) {
+        mLayerError.clear();
+        ++mLayerUpdates;
+        mLastSetLayerSeconds = secondsSince(start);
+    } else {
+        mLayerError = message;  // the material keeps the last valid weights
+    }
+}
+
 const gl::GpuMaterial* MaterialPipeline::updateAndWait(const BakeRequest& request) {
-    update(request);
-    if (mJob.valid()) {
+    // A job may leave more to do (a live upload followed by its weights); each round submits at most one.
+    for (;;) {
+        update(request);
+        if (!mJob.valid()) break;
         mJob.wait();
         collect();
     }
-    // The request may have been submitted by an earlier update() whose bake failed.
+    // The request may have been submitted by an earlier update() whose job failed.
     if (mFailure) std::rethrow_exception(mFailure);
     return mGpu.get();
 }
 
 void MaterialPipeline::collect() {
+    mActivity.clear();
     try {
-        BakeResult result = mJob.get();
-        // The texture goes to the GPU as it is; the CPU copy is not kept (the baker caches what it needs).
-        auto gpu = std::make_unique<gl::GpuMaterial>(gl::uploadMaterial(result.texture, result.aoDepthScale));
-        result.texture = {};
-        mGpu = std::move(gpu);
-        mLastBake = std::move(result);
-        mLastSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mJobStart).count();
+        Work work = mJob.get();
+        if (!work.live) {
+            // The texture goes to the GPU as it is; the CPU copy is not kept (the baker caches what it
+            // needs).
+            auto gpu = std::make_unique<gl::GpuMaterial>(
+                gl::uploadMaterial(work.bake.texture, work.bake.aoDepthScale));
+            mGpu = std::move(gpu);
+            mLiveKey.clear();
+            mComposedAoKey.clear();
+            ++mUploads;
+        } else {
+            bool aoApplied = false;
+            if (work.upload) {
+                // GL, so here on the context's thread; with per-layer AO this bakes each layer's AO too.
+                const auto start = std::chrono::steady_clock::now();
+                const std::optional<MetaAoMode> ao = work.material.ao;
+                auto gpu = std::make_unique<gl::GpuMaterial>(
+                    gl::uploadLiveMaterial(work.layers, work.material.compose, ao, work.material.aoParams));
+                if (work.composedAo) gpu->setComposedAo(work.bake.texture.ao, work.bake.aoDepthScale);
+                aoApplied = work.composedAo;
+                mGpu = std::move(gpu);
+                mComposedAoKey.clear();
+                mLiveKey = work.liveKey;
+                mLastUploadSeconds = secondsSince(start);
+                ++mUploads;
+            } else if (work.composedAo && mGpu && mGpu->isLive() && mLiveKey == work.liveKey) {
+                mGpu->setComposedAo(work.bake.texture.ao, work.bake.aoDepthScale);
+                aoApplied = true;
+            }
+            if (aoApplied) {
+                mComposedAoKey = work.composedAoKey;
+                ++mComposedAoUpdates;
+            }
+        }
+        work.bake.texture = {};
+        mLastBake = std::move(work.bake);
+        mLastSeconds = secondsSince(mJobStart);
         mError.clear();
         mFailure = nullptr;
     } catch (const std::exception& e) {

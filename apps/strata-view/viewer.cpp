@@ -161,6 +161,7 @@ BakeRequest Viewer::bakeRequest() const {
     request.resolution = mOptions.resolution;
     request.renderDepthScale = mDepthScale;
     request.aoRescale = mScene.relief.aoRescale;
+    request.meta = mScene.meta;
     return request;
 }
 
@@ -236,7 +237,18 @@ void Viewer::drawScene(int width, int height) {
     // llvmpipe rasterises when the commands are flushed, after such a query has ended (it read 4 ms for a
     // 250 ms frame). The wait costs a GPU some CPU/GPU overlap, which an interactive viewer can spare.
     const auto start = std::chrono::steady_clock::now();
-    mRenderer->draw(request, width, height);
+    try {
+        mRenderer->draw(request, width, height);
+    } catch (const Error& e) {
+        // A setting the material cannot be drawn with (maxmip with a live material): the window shows the
+        // background and the panel the reason. --screenshot has nothing to show: its exit code says why.
+        if (!mOptions.screenshot.empty()) throw;
+        setStatus(e.what(), true);
+        const glm::dvec3 background = mScene.picture.background;
+        glClearColor(static_cast<float>(background.r), static_cast<float>(background.g),
+                     static_cast<float>(background.b), 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    }
     glFinish();
     mSceneMs.add(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
 }
@@ -344,6 +356,7 @@ void runViewer(const ViewerOptions& options) {
                                                 ": depth_map: the viewer shows materials, not a bare depth "
                                                 "map (use `strata render` for the verification scene)");
     if (!options.mesh.empty()) scene.mesh = options.mesh;
+    if (!options.meta.empty()) scene.meta = parseMetaPath(options.meta);
     Material material = openMaterial(options.material.empty() ? scene.material : options.material);
     Mesh mesh = loadSceneMesh(scene);
     if (!options.screenshot.empty()) {

@@ -24,6 +24,7 @@ struct ViewerOptions {
     std::filesystem::path screenshot;         // set: draw `frames` frames, save the window as PNG, exit
     int frames = kScreenshotFrames;
     bool hideUi = false;  // start with the panels hidden (H toggles them)
+    std::string meta;     // "live" | "baked": how the meta-relief reaches the shader; "" = the scene's
 };
 
 // Runs the viewer until its window is closed (or, with a screenshot, until it is written).

@@ -129,9 +129,21 @@ void Viewer::scenePanel() {
 
     section("relief");
     ReliefSettings& relief = mScene.relief;
-    int technique = static_cast<int>(relief.technique);
-    if (ImGui::Combo("technique", &technique, "texture\0normal\0parallax\0relief\0maxmip\0"))
-        relief.technique = static_cast<Technique>(technique);
+    // maxmip needs the baked depth's maximum mipmap: not offered while the material is live.
+    static const char* const kTechniques[] = {"texture", "normal", "parallax", "relief", "maxmip"};
+    const bool live = mScene.meta == MetaPath::Live;
+    if (ImGui::BeginCombo("technique", kTechniques[static_cast<int>(relief.technique)])) {
+        for (int t = 0; t < static_cast<int>(std::size(kTechniques)); ++t) {
+            const bool selected = t == static_cast<int>(relief.technique);
+            const bool disabled = live && static_cast<Technique>(t) == Technique::MaxMip;
+            if (ImGui::Selectable(kTechniques[t], selected,
+                                  disabled ? ImGuiSelectableFlags_Disabled : ImGuiSelectableFlags_None))
+                relief.technique = static_cast<Technique>(t);
+            if (disabled && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+                ImGui::SetTooltip("maxmip needs a baked material (Material panel: live off)");
+        }
+        ImGui::EndCombo();
+    }
     ImGui::BeginDisabled(relief.technique != Technique::Relief);
     ImGui::SliderInt("linear steps", &relief.linearSteps, 1, 256, "%d", ImGuiSliderFlags_Logarithmic);
     ImGui::SliderInt("binary steps", &relief.binarySteps, 0, 32);
@@ -230,6 +242,20 @@ void Viewer::materialPanel() {
     addLayerControls();
 
     section("composition");
+    bool live = mScene.meta == MetaPath::Live;
+    if (ImGui::Checkbox("live (per fragment)", &live)) {
+        mScene.meta = live ? MetaPath::Live : MetaPath::Baked;
+        if (live && mScene.relief.technique == Technique::MaxMip) {
+            mScene.relief.technique = Technique::Relief;
+            setStatus("maxmip needs a baked material: technique set to relief", false);
+        }
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "live: the layers go to the GPU as they are and the shader combines them per fragment;\n"
+            "weights and tilings change at once, with no composition (docs/live-meta-relief.md).\n"
+            "baked: composed on the CPU at %d^2 after every change.",
+            mOptions.resolution);
     int normals = mMaterial.compose.normals == NormalMode::Paper ? 0 : 1;
     if (ImGui::Combo("normals", &normals, "paper (Eq. 1)\0consistent\0"))
         mMaterial.compose.normals = normals == 0 ? NormalMode::Paper : NormalMode::Consistent;
@@ -244,11 +270,21 @@ void Viewer::materialPanel() {
     // What the pipeline is doing: the bake runs on a worker thread, the window keeps the last result.
     ImGui::Separator();
     ImGui::PushTextWrapPos(0.0f);
-    if (mPipeline.busy()) {
-        ImGui::TextColored(ImVec4(1.0f, 0.85f, 0.4f, 1.0f), "composing %d^2 ...", mOptions.resolution);
-    } else if (!mPipeline.error().empty()) {
+    if (mPipeline.busy())
+        ImGui::TextColored(ImVec4(1.0f, 0.85f, 0.4f, 1.0f), "%s ...", mPipeline.activity().c_str());
+    if (!mPipeline.error().empty()) {
         ImGui::TextColored(kErrorColor, "%s", mPipeline.error().c_str());
-    } else {
+    } else if (live) {
+        const BakeResult& bake = mPipeline.lastBake();
+        ImGui::TextColored(kDimColor, "live: upload %.0f ms (load %.0f); weights %.2f ms",
+                           mPipeline.lastUploadSeconds() * 1e3, bake.loadSeconds * 1e3,
+                           mPipeline.lastSetLayerSeconds() * 1e3);
+        if (mMaterial.ao == MetaAoMode::Exact)
+            ImGui::TextColored(kDimColor, "composed AO %d^2: %.0f ms (compose %.0f, AO %.0f)",
+                               mOptions.resolution, mPipeline.lastSeconds() * 1e3, bake.composeSeconds * 1e3,
+                               bake.aoSeconds * 1e3);
+        for (const std::string& note : bake.notes) ImGui::TextColored(kDimColor, "note: %s", note.c_str());
+    } else if (!mPipeline.busy()) {
         const BakeResult& bake = mPipeline.lastBake();
         ImGui::TextColored(kDimColor, "%d^2: %.0f ms (load %.0f, compose %.0f, AO %.0f)", mOptions.resolution,
                            mPipeline.lastSeconds() * 1e3, bake.loadSeconds * 1e3, bake.composeSeconds * 1e3,
