@@ -3,6 +3,8 @@
 #include "material_document.h"
 
 #include "strata/core/error.h"
+#include "strata/occlusion/ambient_occlusion.h"
+#include "strata/occlusion/meta_relief_ao.h"
 
 #include <nlohmann/json.hpp>
 
@@ -89,7 +91,19 @@ const gl::GpuMaterial* MaterialPipeline::updateLive(const BakeRequest& request) 
                 work.liveKey = structure;
                 work.upload = needUpload;
                 work.material = request.material;
-                if (needUpload) work.layers = mBaker.layers(request, work.bake);
+                if (needUpload) {
+                    work.layers = mBaker.layers(request, work.bake);
+                    // The layers' AO maps here on the worker, so that the GL thread only uploads.
+                    if (layerAoAtUpload(request.material)) {
+                        const auto start = std::chrono::steady_clock::now();
+                        const std::vector<std::optional<AoParams>> params = metaReliefLayerAoParams(
+                            work.layers, request.material.compose, request.material.aoParams);
+                        for (std::size_t i = 0; i < work.layers.size(); ++i)
+                            work.layerAo.push_back(
+                                params[i] ? bakeAo(work.layers[i].texture.depth, *params[i]) : Image());
+                        work.bake.aoSeconds += secondsSince(start);
+                    }
+                }
                 if (needAo) {
                     // The composition and its exact AO (at the render's S with AoRescale::Exact), as the
                     // baked path makes them; the layers come from the cache filled above.
@@ -178,11 +192,11 @@ void MaterialPipeline::collect() {
         } else {
             bool aoApplied = false;
             if (work.upload) {
-                // GL, so here on the context's thread; with per-layer AO this bakes each layer's AO too.
+                // GL, so here on the context's thread; the per-layer AO maps were baked on the worker.
                 const auto start = std::chrono::steady_clock::now();
                 const std::optional<MetaAoMode> ao = work.material.ao;
-                auto gpu = std::make_unique<gl::GpuMaterial>(
-                    gl::uploadLiveMaterial(work.layers, work.material.compose, ao, work.material.aoParams));
+                auto gpu = std::make_unique<gl::GpuMaterial>(gl::uploadLiveMaterial(
+                    work.layers, work.material.compose, ao, work.material.aoParams, work.layerAo));
                 if (work.composedAo) gpu->setComposedAo(work.bake.texture.ao, work.bake.aoDepthScale);
                 aoApplied = work.composedAo;
                 mGpu = std::move(gpu);

@@ -81,8 +81,9 @@ private:
         std::string liveKey;                   // live: the structure the job is for
         bool upload = false;                   // live: upload `layers` (else only the composed AO)
         std::vector<CompositionLayer> layers;  // live: loaded, to upload
-        Material material;                     // live: compose and AO settings of the upload
-        bool composedAo = false;               // live: bake.texture.ao is the composed AO map
+        std::vector<Image> layerAo;  // live, AO multiply / min: each layer's AO, baked on the worker
+        Material material;           // live: compose and AO settings of the upload
+        bool composedAo = false;     // live: bake.texture.ao is the composed AO map
         std::string composedAoKey;
         BakeResult bake;  // baked: the texture; live: the report and the composed AO
     };

@@ -411,12 +411,22 @@ std::string liveLayerName(std::span<const CompositionLayer> layers, std::size_t 
 
 GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const ComposeParams& compose,
                                std::optional<MetaAoMode> ao, const AoParams& aoParams) {
+    return uploadLiveMaterial(layers, compose, ao, aoParams, {});
+}
+
+GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const ComposeParams& compose,
+                               std::optional<MetaAoMode> ao, const AoParams& aoParams,
+                               std::span<const Image> layerAo) {
     if (layers.size() > static_cast<std::size_t>(kMaxLiveLayers)) {
         invalidLive(std::to_string(layers.size()) + " layers; the live path takes at most " +
                     std::to_string(kMaxLiveLayers) + " (bake the material instead)");
     }
     // Validates the depth weights, tilings and depth scale like compose(), and gives each layer's AO bake.
-    const std::vector<std::optional<AoParams>> layerAo = metaReliefLayerAoParams(layers, compose, aoParams);
+    const std::vector<std::optional<AoParams>> layerAoParams =
+        metaReliefLayerAoParams(layers, compose, aoParams);
+    if (!layerAo.empty() && layerAo.size() != layers.size())
+        invalidLive(std::to_string(layerAo.size()) + " layer AO maps for " + std::to_string(layers.size()) +
+                    " layers");
     double sumNormal = 0.0;
     for (std::size_t i = 0; i < layers.size(); ++i) {
         const CompositionLayer& layer = layers[i];
@@ -471,9 +481,18 @@ GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const C
         } else {
             packed.normal = layer.texture.normal;
         }
-        if ((ao == MetaAoMode::Multiply || ao == MetaAoMode::Min) && layerAo[i]) {
-            packed.ao = bakeAo(layer.texture.depth, *layerAo[i]);
-            gpu.aoDepthScale = layerAo[i]->depthScale;
+        if ((ao == MetaAoMode::Multiply || ao == MetaAoMode::Min) && layerAoParams[i]) {
+            if (layerAo.empty()) {
+                packed.ao = bakeAo(layer.texture.depth, *layerAoParams[i]);
+            } else {
+                const Image& map = layerAo[i];
+                if (map.channels() != 1 || map.width() != layer.texture.depth.width() ||
+                    map.height() != layer.texture.depth.height())
+                    invalidLive(liveLayerName(layers, i) +
+                                ": its AO map is not a 1-channel map of its depth's size");
+                packed.ao = map;
+            }
+            gpu.aoDepthScale = layerAoParams[i]->depthScale;
         }
         gpu.texture = makePackedTexture(packed);
         if (static_cast<int>(i) == compose.colorFrom) gpu.color = makeColorTexture(layer.texture.color);

@@ -129,7 +129,7 @@ private:
     friend GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale);
     friend GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers,
                                           const ComposeParams& compose, std::optional<MetaAoMode> ao,
-                                          const AoParams& aoParams);
+                                          const AoParams& aoParams, std::span<const Image> layerAo);
     void release();
     unsigned mRelief = 0;
     unsigned mColor = 0;
@@ -167,6 +167,14 @@ GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale);
 // layers; Error(Runtime) on a GL error.
 GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const ComposeParams& compose,
                                std::optional<MetaAoMode> ao, const AoParams& aoParams);
+// The same with the layers' AO maps for Multiply / Min baked by the caller (e.g. on a worker thread, so
+// that the GL thread only uploads): layerAo[i] is bakeAo(layers[i].texture.depth, *liveLayerAoParams[i])
+// with liveLayerAoParams = metaReliefLayerAoParams(layers, compose, aoParams), and an empty Image where
+// that is nullopt. Throws Error(InvalidInput) as above, and for a layerAo of another size than `layers` or
+// a map of another size than its layer's depth.
+GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const ComposeParams& compose,
+                               std::optional<MetaAoMode> ao, const AoParams& aoParams,
+                               std::span<const Image> layerAo);
 
 // The most layers a live meta-relief has (the shader's sampler array).
 inline constexpr int kMaxLiveLayers = 8;
