@@ -5,6 +5,8 @@
 #include "strata/core/error.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
+#include "strata/occlusion/ambient_occlusion.h"
+#include "strata/occlusion/meta_relief_ao.h"
 #include "strata/relief/patterns.h"
 #include "strata/trace/quad_reference.h"
 #include "strata/trace/render_compare.h"
@@ -199,6 +201,42 @@ TEST_F(LiveMetaGl, ShadedPicturesMatchTheBakedOnes) {
     EXPECT_LE(paper90, 0.016);
     EXPECT_LE(consistent90, 0.07);
     EXPECT_GT(control90, 0.09);
+}
+
+// Layer AO maps baked by the caller (the overload for worker threads) give the same picture as the ones
+// uploadLiveMaterial bakes itself; a wrong count or size is refused.
+TEST_F(LiveMetaGl, LayerAoBakedElsewhereMatchesTheUploadsOwn) {
+    const std::vector<CompositionLayer> layers = alignedLayers();
+    const ComposeParams params = composeParams(NormalMode::Paper);
+    AoParams aoParams;
+    aoParams.directions = 16;
+    const std::vector<std::optional<AoParams>> perLayer = metaReliefLayerAoParams(layers, params, aoParams);
+    std::vector<Image> maps;
+    for (std::size_t i = 0; i < layers.size(); ++i)
+        maps.push_back(perLayer[i] ? bakeAo(layers[i].texture.depth, *perLayer[i]) : Image());
+    const GpuMaterial own = uploadLiveMaterial(layers, params, MetaAoMode::Multiply, aoParams);
+    const GpuMaterial given = uploadLiveMaterial(layers, params, MetaAoMode::Multiply, aoParams, maps);
+    ReliefRenderer renderer;
+    const GpuMesh quad = uploadMesh(makeBuiltinMesh("quad"));
+    RenderRequest request = quadRequest(quad, own, 45.0, RenderOutput::Shaded);
+    request.lighting.ambient = 0.6;  // AO multiplies the ambient term: make it count
+    const Image a = renderer.render(request);
+    request.objects[0].material = &given;
+    EXPECT_TRUE(a == renderer.render(request));
+    // The AO does reach the picture: without it the picture is brighter.
+    const GpuMaterial none = uploadLiveMaterial(layers, params, std::nullopt, aoParams);
+    request.objects[0].material = &none;
+    const Image b = renderer.render(request);
+    double sumA = 0.0, sumB = 0.0;
+    for (std::size_t i = 0; i < a.pixels().size(); ++i) {
+        sumA += static_cast<double>(a.pixels()[i]);
+        sumB += static_cast<double>(b.pixels()[i]);
+    }
+    EXPECT_GT(sumB, sumA * 1.01);
+    EXPECT_THROW(uploadLiveMaterial(layers, params, MetaAoMode::Multiply, aoParams, std::span(maps).first(2)),
+                 Error);
+    maps[1] = Image(8, 8, 1, 1.0f);
+    EXPECT_THROW(uploadLiveMaterial(layers, params, MetaAoMode::Multiply, aoParams, maps), Error);
 }
 
 TEST_F(LiveMetaGl, RejectsBadLayers) {
