@@ -95,14 +95,7 @@ void MaterialBaker::takeLayers(const Material& material, BakeResult& result,
             layer = std::move(loadLayers(single, &result.notes).front());
             ++result.layersLoaded;
         }
-        layer.label = "layers[" + std::to_string(i) + "]";
-        if (!spec.name.empty())
-            layer.label += " (" + spec.name + ")";
-        else if (spec.pattern)
-            layer.label += " (" + *spec.pattern + ")";
-        layer.tiling = spec.tiling;
-        layer.weightDepth = spec.weightDepth;
-        layer.weightNormal = spec.weightNormal;
+        applyLayerSettings(i, spec, layer);
         layers.push_back(std::move(layer));
         keys.push_back(key);
     }

@@ -187,19 +187,28 @@ Material readMaterial(const fs::path& path) {
     return parseMaterial(detail::readJsonFile(path), path);
 }
 
+std::string layerLabel(std::size_t index, const MaterialLayer& layer) {
+    std::string label = "layers[" + std::to_string(index) + "]";
+    if (!layer.name.empty())
+        label += " (" + layer.name + ")";
+    else if (layer.pattern)
+        label += " (" + *layer.pattern + ")";
+    return label;
+}
+
+void applyLayerSettings(std::size_t index, const MaterialLayer& spec, CompositionLayer& layer) {
+    layer.label = layerLabel(index, spec);
+    layer.tiling = spec.tiling;
+    layer.weightDepth = spec.weightDepth;
+    layer.weightNormal = spec.weightNormal;
+}
+
 std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<std::string>* notes) {
     std::vector<CompositionLayer> layers;
     for (std::size_t i = 0; i < material.layers.size(); ++i) {
         const MaterialLayer& spec = material.layers[i];
         CompositionLayer layer;
-        layer.label = "layers[" + std::to_string(i) + "]";
-        if (!spec.name.empty())
-            layer.label += " (" + spec.name + ")";
-        else if (spec.pattern)
-            layer.label += " (" + *spec.pattern + ")";
-        layer.tiling = spec.tiling;
-        layer.weightDepth = spec.weightDepth;
-        layer.weightNormal = spec.weightNormal;
+        applyLayerSettings(i, spec, layer);
         if (spec.pattern) {
             layer.texture = makePattern(*spec.pattern, spec.patternParams);
         } else {

@@ -87,6 +87,12 @@ std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<s
 ReliefTexture composeMaterial(const Material& material, std::vector<std::string>* notes = nullptr,
                               const MetaAoProgress& progress = {});
 
+// How loadLayers names layer `index` in messages: "layers[1] (fabric)" (its "name", else its pattern).
+std::string layerLabel(std::size_t index, const MaterialLayer& layer);
+// The layer's combination keys (tiling and weights) set on `layer`, and its label (layerLabel): what
+// loadLayers does after loading the maps, for callers that cache the maps and change only these.
+void applyLayerSettings(std::size_t index, const MaterialLayer& spec, CompositionLayer& layer);
+
 // All input files a material reads (for the never-overwrite-an-input check).
 std::vector<std::filesystem::path> materialInputs(const Material& material);
 
