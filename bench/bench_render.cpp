@@ -128,7 +128,7 @@ void BM_DefaultScene(benchmark::State& state) {
     }
     state.SetLabel(std::string(toString(request.relief.technique)) + " 1280x720 x4");
 }
-BENCHMARK(BM_DefaultScene)->DenseRange(0, 3)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DefaultScene)->DenseRange(0, 4)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Live meta-relief (gl::uploadLiveMaterial: layers combined per fragment) against the same layers baked into
 // one texture (compose()), on the teapot at 512^2 with the paper's 10 + 5 steps, shadows and depth
