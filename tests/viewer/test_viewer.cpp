@@ -559,6 +559,16 @@ void expectSamePicture(const Image& view, const Image& reference, const std::str
     }
 }
 
+// A command under `xvfb-run -a`. Two servers starting at once can pick the same display number (ctest runs
+// the viewer tests one at a time: RESOURCE_LOCK xvfb in tests/CMakeLists.txt); a server that fails to start
+// anyway is retried once.
+test::CommandResult runUnderXvfb(const std::string& command) {
+    test::CommandResult run = runShell("xvfb-run -a " + command);
+    if (run.exitCode != 0 && run.output.find("Xvfb failed to start") != std::string::npos)
+        run = runShell("xvfb-run -a " + command);
+    return run;
+}
+
 TEST(ViewerCli, ScreenshotUnderXvfbMatchesStrataRender) {
     SKIP_WITHOUT_VIEWER();
     if (runShell("command -v xvfb-run").exitCode != 0)
@@ -570,14 +580,8 @@ TEST(ViewerCli, ScreenshotUnderXvfbMatchesStrataRender) {
         {"pattern": "base", "size": 256},
         {"pattern": "fabric", "size": 128, "tiling": 4, "weight_depth": 0.3, "weight_normal": 0.3}]})");
     const std::string common = " --mesh teapot --size 256x192";
-    // All windows in this one test, one after another: two `xvfb-run -a` starting at once can pick the same
-    // display number. A server that fails to start is retried once.
     const auto runViewer = [&](const std::string& args) {
-        const std::string command = "xvfb-run -a " + viewer() + " " + quoted(dir / "m.json") + args;
-        test::CommandResult run = runShell(command);
-        if (run.exitCode != 0 && run.output.find("Xvfb failed to start") != std::string::npos)
-            run = runShell(command);
-        return run;
+        return runUnderXvfb(viewer() + " " + quoted(dir / "m.json") + args);
     };
     const test::CommandResult scene =
         runViewer(common + " --resolution 256 --no-ui --screenshot " + quoted(dir / "view.png"));
@@ -635,11 +639,9 @@ TEST(ViewerCli, LiveScreenshotMatchesStrataRenderLive) {
         {"pattern": "base", "size": 256},
         {"pattern": "fabric", "size": 128, "tiling": 4, "weight_depth": 0.3, "weight_normal": 0.3}]})");
     const std::string common = " --mesh teapot --size 256x192 --meta live";
-    const std::string command = "xvfb-run -a " + viewer() + " " + quoted(dir / "m.json") + common +
-                                " --resolution 256 --no-ui --screenshot " + quoted(dir / "view.png");
-    test::CommandResult scene = runShell(command);
-    if (scene.exitCode != 0 && scene.output.find("Xvfb failed to start") != std::string::npos)
-        scene = runShell(command);
+    const test::CommandResult scene =
+        runUnderXvfb(viewer() + " " + quoted(dir / "m.json") + common +
+                     " --resolution 256 --no-ui --screenshot " + quoted(dir / "view.png"));
     ASSERT_EQ(scene.exitCode, 0) << scene.output;
     const test::CommandResult render = test::runCli("render --material " + quoted(dir / "m.json") + common +
                                                     " --samples 1 -o " + quoted(dir / "render.png"));
@@ -658,8 +660,8 @@ TEST(ViewerCli, LiveScreenshotMatchesStrataRenderLive) {
     // the technique is not offered while live, and the panel shows a render error).
     test::writeBytes(dir / "maxmip.json", R"({"technique": "maxmip"})");
     const test::CommandResult maxmip =
-        runShell("xvfb-run -a " + viewer() + " " + quoted(dir / "m.json") + common + " --scene " +
-                 quoted(dir / "maxmip.json") + " --screenshot " + quoted(dir / "maxmip.png"));
+        runUnderXvfb(viewer() + " " + quoted(dir / "m.json") + common + " --scene " +
+                     quoted(dir / "maxmip.json") + " --screenshot " + quoted(dir / "maxmip.png"));
     EXPECT_EQ(maxmip.exitCode, 3) << maxmip.output;
     EXPECT_NE(maxmip.output.find("maxmip needs a baked material"), std::string::npos) << maxmip.output;
     EXPECT_FALSE(fs::exists(dir / "maxmip.png"));
