@@ -1,6 +1,7 @@
 // The relief renderer against the exact CPU reference of the verification scene (CONVENTIONS §7,
 // strata/trace/quad_reference.h), plus determinism, interpenetration and a shaded sanity check.
 #include "gl_test_support.h"
+#include "strata/core/error.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
 #include "strata/relief/patterns.h"
@@ -154,6 +155,18 @@ TEST_F(RendererGl, MaxMipIsExact) {
     for (const PatternInfo& info : patternList())
         maps.emplace_back(info.name, quantisedPattern(info.name, kPatternSize));
     maps.emplace_back("walls", wallMap(kPatternSize));
+    // Not square: the top half of stone-bricks (its wrap is a cut, still a valid wrap-around field), so the
+    // pyramid's v side reaches 1 a level before its u side.
+    {
+        const ReliefTexture full = quantisedPattern("stone-bricks", kPatternSize);
+        ReliefTexture half;
+        half.depth = Image(kPatternSize, kPatternSize / 2, 1);
+        for (int y = 0; y < kPatternSize / 2; ++y)
+            for (int x = 0; x < kPatternSize; ++x) half.depth.at(x, y) = full.depth.at(x, y);
+        half.normal = normalsFromDepth(half.depth, kDepthScale);
+        half.depthScale = kDepthScale;
+        maps.emplace_back("bricks-256x128", std::move(half));
+    }
     std::printf("%-13s %5s %10s %8s %8s %8s\n", "map", "angle", "mismatch%", "p50", "p99", "shadow%");
     for (const auto& [name, texture] : maps) {
         const GpuMaterial material = uploadMaterial(texture, kDepthScale);
@@ -167,7 +180,8 @@ TEST_F(RendererGl, MaxMipIsExact) {
             const Image uv = renderer.render(request);
             request.picture.output = RenderOutput::Shadow;
             const Image shadow = renderer.render(request);
-            const UvComparison uvResult = compareUv(reference.uv, uv, kPatternSize, kPatternSize);
+            const int w = texture.depth.width(), h = texture.depth.height();
+            const UvComparison uvResult = compareUv(reference.uv, uv, w, h);
             const MaskAgreement shadowResult = compareShadow(reference.shadow, shadow, reference.uv, uv);
             std::printf("%-13s %5.0f %10.3f %8.4f %8.4f %8.2f\n", name.c_str(), angle,
                         100.0 * uvResult.mismatchFraction, uvResult.p50, uvResult.p99,
@@ -178,9 +192,31 @@ TEST_F(RendererGl, MaxMipIsExact) {
             if (uvResult.p99 > 0.25 || shadowResult.fraction < 0.99) {
                 const std::string stem = "maxmip_" + name + "_" + std::to_string(static_cast<int>(angle));
                 writeComparisonImages(test::failureDirectory("quad_reference"), stem + "_uv", reference.uv,
-                                      uv, uvDiffImage(reference.uv, uv, kPatternSize, kPatternSize));
+                                      uv, uvDiffImage(reference.uv, uv, w, h));
             }
         }
+    }
+}
+
+// maxmip's pyramid needs power-of-two sides: another map is refused with the reason, not drawn wrong.
+TEST_F(RendererGl, MaxMipRefusesOtherSizes) {
+    ReliefTexture odd;
+    odd.depth = Image(100, 64, 1, 0.5f);
+    odd.normal = normalsFromDepth(odd.depth, kDepthScale);
+    odd.depthScale = kDepthScale;
+    const GpuMaterial material = uploadMaterial(odd, kDepthScale);
+    EXPECT_EQ(material.maxMipTexture(), 0u);
+    ReliefRenderer renderer;
+    const GpuMesh quad = uploadMesh(makeBuiltinMesh("quad"));
+    RenderRequest request = quadRequest(quad, material, quadCamera(45.0), RenderOutput::Uv);
+    request.relief.technique = Technique::MaxMip;
+    try {
+        renderer.render(request);
+        ADD_FAILURE() << "a 100x64 map rendered with maxmip";
+    } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::InvalidInput);
+        EXPECT_NE(std::string(error.what()).find("powers of two, got 100x64"), std::string::npos)
+            << error.what();
     }
 }
 
