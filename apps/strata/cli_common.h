@@ -19,6 +19,7 @@ void addAoCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
+void addDualDepthCommand(CLI::App& app);
 
 // A progress line on stderr, only when stderr is a terminal (pipes and CI logs stay clean).
 void progress(const std::string& message);

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
     strata::cli::addInfoCommand(app);
     strata::cli::addRenderCommand(app);
     strata::cli::addCompareCommand(app);
+    strata::cli::addDualDepthCommand(app);
 
     try {
         app.parse(argc, argv);

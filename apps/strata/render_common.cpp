@@ -8,6 +8,7 @@
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/mesh.h"
 #include "strata/occlusion/ambient_occlusion.h"
+#include "strata/relief/dual_depth.h"
 #include "strata/relief/texture_set.h"
 
 #include <chrono>
@@ -69,8 +70,10 @@ void addSceneFlags(CLI::App& command, SceneFlags& f) {
                     "Render this depth map (d in [0, 1], 0 = top) instead of a material: the verification "
                     "scene's input (CONVENTIONS §7)")
         ->check(CLI::ExistingFile);
-    command.add_option("--technique", f.technique, "texture, normal, parallax, relief or maxmip (exact)")
-        ->check(CLI::IsMember({"texture", "normal", "parallax", "relief", "maxmip"}));
+    command
+        .add_option("--technique", f.technique,
+                    "texture, normal, parallax, relief, maxmip (exact) or dual-depth (a dual-depth texture)")
+        ->check(CLI::IsMember({"texture", "normal", "parallax", "relief", "maxmip", "dual-depth"}));
     command
         .add_option("--linear-steps", f.linearSteps,
                     "Relief: linear search steps at normal incidence (paper: 10)")
@@ -188,6 +191,11 @@ std::vector<RenderedScene> renderScene(const Scene& scene, const std::vector<Tec
             const Composition composition = compose(layers, material.compose);
             gpuMaterial.setComposedAo(bakeAo(composition.texture.depth, params), params.depthScale);
         }
+    } else if (scene.relief.technique == Technique::DualDepth && scene.depthMap.empty() &&
+               isDualDepth(scene.material)) {
+        const DualDepthTexture dual = readDualDepth(scene.material);
+        depthScale = scene.relief.depthScale.value_or(dual.depthScale);
+        gpuMaterial = gl::uploadDualDepth(dual);
     } else {
         ReliefTexture texture = loadSceneMaterial(scene, &notes, [](const std::string& m) { progress(m); });
         for (const auto& text : notes) note(text);

@@ -5,7 +5,7 @@
 //
 // Variant flags (src/gl/program.cpp, variantDefines), one of each group:
 //   STRATA_PLAIN | STRATA_TECHNIQUE_TEXTURE | STRATA_TECHNIQUE_NORMAL | STRATA_TECHNIQUE_PARALLAX |
-//   STRATA_TECHNIQUE_RELIEF | STRATA_TECHNIQUE_MAXMIP
+//   STRATA_TECHNIQUE_RELIEF | STRATA_TECHNIQUE_MAXMIP | STRATA_TECHNIQUE_DUAL_DEPTH
 //   STRATA_OUTPUT_SHADED | STRATA_OUTPUT_UV | STRATA_OUTPUT_SHADOW | STRATA_OUTPUT_DEPTH
 // and optionally STRATA_SHADOWS (the shaded and shadow outputs of every technique), STRATA_DEPTH_CORRECTION
 // (relief, parallax), STRATA_AO (ambient times the packed texture's AO) with STRATA_AO_PAPER (rescaled
@@ -19,6 +19,9 @@
 #include "relief_search.glsl"
 #ifdef STRATA_TECHNIQUE_MAXMIP
 #include "maxmip.glsl"
+#endif
+#ifdef STRATA_TECHNIQUE_DUAL_DEPTH
+#include "dual_depth.glsl"
 #endif
 #include "shared/ao_rescale.h"
 
@@ -179,6 +182,21 @@ void main() {
     } else {
         hit = false;
     }
+#elif defined(STRATA_TECHNIQUE_DUAL_DEPTH)
+    // An impostor (dual_depth.glsl): rays that pass the object show what is behind the quad.
+    if (entering) {
+        vec2 ds = s.xy * uDepthScale / s.z;
+        int steps = clamp(reliefLinearSteps(uLinearSteps, dot(view, N)), 1, 4 * uLinearSteps);
+        hitDepth = dualDepthIntersect(tile, ds, steps, uBinarySteps, bracket);
+        hit = hitDepth >= 0.0;
+        hitDepth = max(hitDepth, 0.0);
+        hitUv = tile + ds * hitDepth;
+    } else {
+        hit = false;
+    }
+#ifdef STRATA_OUTPUT_SHADED
+    if (!hit) discard;
+#endif
 #elif defined(STRATA_TECHNIQUE_PARALLAX)
     // Parallax mapping (Kaneko et al. 2001, the paper's Sec. 2): read d at the fragment's own uv and move
     // along the view ray to that depth, uv' = uv + (d S) s.xy / s.z; with V = (-s.x, -s.y, s.z) the vector
@@ -213,14 +231,15 @@ void main() {
     bool lit = dot(toLightWorld, N) > 0.0;
 #ifdef STRATA_SHADOWS
     // Sec. 3.1 and appendix RM_SHADOWS: the light ray through a point of the relief, searched from the top
-    // down to it. Relief mapping tests its hit. Parallax, normal and texture mapping find no point on the
-    // relief, so they test the relief point under the coordinates they shade, (uv, d(uv)): the offset uv for
-    // parallax, the fragment's own for the other two. That point lies on the surface (no search window).
+    // down to it. Relief mapping (and maxmip, dual-depth) tests its hit. Parallax, normal and texture mapping
+    // find no point on the relief, so they test the relief point under the coordinates they shade,
+    // (uv, d(uv)): the offset uv for parallax, the fragment's own for the other two. That point lies on the
+    // surface (no search window).
     vec2 shadowUv = hitUv;
     float shadowDepth = hitDepth;
     float shadowBracket = bracket;
     vec3 shadowWorld = hitWorld;
-#ifndef STRATA_TECHNIQUE_RELIEF
+#if defined(STRATA_TECHNIQUE_TEXTURE) || defined(STRATA_TECHNIQUE_NORMAL) || defined(STRATA_TECHNIQUE_PARALLAX)
     shadowDepth = reliefDepth(hitUv);
     shadowBracket = 0.0;
     shadowWorld -= N * ((shadowDepth - hitDepth) * uDepthScale * tileLength.z);
@@ -229,7 +248,11 @@ void main() {
         vec3 toLight = uLightPosition - shadowWorld;
         vec3 toLightTile = vec3(dot(toLight, T) / tileLength.x, dot(toLight, B) / tileLength.y,
                                 dot(toLight, N) / tileLength.z);
-#ifdef STRATA_TECHNIQUE_MAXMIP
+#if defined(STRATA_TECHNIQUE_DUAL_DEPTH)
+        float cosLight = dot(normalize(toLight), N);
+        int lightSteps = clamp(reliefLinearSteps(uLinearSteps, cosLight), 1, 4 * uLinearSteps);
+        lit = dualLit(shadowUv, shadowDepth, shadowBracket, toLightTile, uDepthScale, lightSteps);
+#elif defined(STRATA_TECHNIQUE_MAXMIP)
         // Exact: the light ray's first intersection from the top, by the same traversal; lit when that is
         // the point itself (within the bias of relief_search.glsl).
         if (toLightTile.z > 0.0) {

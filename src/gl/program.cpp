@@ -278,19 +278,23 @@ ProgramVariant canonical(ProgramVariant variant) {
         variant.live = false;
         return variant;
     }
-    const bool displaced = variant.technique == Technique::Relief ||
-                           variant.technique == Technique::Parallax || variant.technique == Technique::MaxMip;
+    const bool displaced =
+        variant.technique == Technique::Relief || variant.technique == Technique::Parallax ||
+        variant.technique == Technique::MaxMip || variant.technique == Technique::DualDepth;
     if (variant.output != RenderOutput::Shaded && variant.output != RenderOutput::Shadow)
         variant.shadows = false;
     if (!displaced) variant.depthCorrection = false;
-    if (variant.output != RenderOutput::Shaded || variant.technique == Technique::Texture)
+    // Texture mapping reads no AO; a dual-depth texture has none (its B channel is the front depth).
+    if (variant.output != RenderOutput::Shaded || variant.technique == Technique::Texture ||
+        variant.technique == Technique::DualDepth)
         variant.ao = AoMode::Off;
     // Live layers matter where the program reads the relief: a search, the shadow test, or normal mapping.
     const bool readsRelief =
         displaced || variant.shadows ||
         (variant.technique == Technique::Normal && variant.output == RenderOutput::Shaded);
     // The maximum mipmap is built from one baked depth texture (uploadMaterial).
-    if (!readsRelief || variant.technique == Technique::MaxMip) variant.live = false;
+    if (!readsRelief || variant.technique == Technique::MaxMip || variant.technique == Technique::DualDepth)
+        variant.live = false;
     return variant;
 }
 
@@ -350,6 +354,9 @@ std::vector<std::string> variantDefines(const ProgramVariant& variant) {
                 break;
             case Technique::MaxMip:
                 defines.emplace_back("STRATA_TECHNIQUE_MAXMIP");
+                break;
+            case Technique::DualDepth:
+                defines.emplace_back("STRATA_TECHNIQUE_DUAL_DEPTH");
                 break;
         }
     }

@@ -259,6 +259,7 @@ GpuMaterial& GpuMaterial::operator=(GpuMaterial&& other) noexcept {
         mComposedAo = std::exchange(other.mComposedAo, 0);
         mMaxMip = std::exchange(other.mMaxMip, 0);
         mMaxMipLevels = other.mMaxMipLevels;
+        mDualDepth = other.mDualDepth;
         mLayers = std::exchange(other.mLayers, {});
         mNormalMode = other.mNormalMode;
         mLiveAo = other.mLiveAo;
@@ -510,6 +511,45 @@ GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const C
     return result;
 }
 
+GpuMaterial uploadDualDepth(const DualDepthTexture& texture) {
+    const int width = texture.front.width();
+    const int height = texture.front.height();
+    const auto sameSize = [&](const Image& image, int channels) {
+        return image.channels() == channels && image.width() == width && image.height() == height;
+    };
+    if (texture.front.empty() || !sameSize(texture.front, 1) || !sameSize(texture.back, 1) ||
+        !sameSize(texture.normal, 3)) {
+        throw Error(
+            ErrorKind::InvalidInput,
+            "uploadDualDepth: front and back must be 1-channel maps and normal a 3-channel map, all of "
+            "one size");
+    }
+    if (!(std::isfinite(texture.depthScale) && texture.depthScale > 0.0)) {
+        throw Error(ErrorKind::InvalidInput,
+                    "uploadDualDepth: depth scale must be > 0, got " + formatNumber(texture.depthScale));
+    }
+    std::vector<std::uint16_t> texels(static_cast<std::size_t>(width) * height * 4);
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            std::uint16_t* texel = texels.data() + (static_cast<std::size_t>(y) * width + x) * 4;
+            texel[0] = toUnorm16(texture.normal.at(x, y, 0) * 0.5f + 0.5f);
+            texel[1] = toUnorm16(texture.normal.at(x, y, 1) * 0.5f + 0.5f);
+            texel[2] = toUnorm16(texture.front.at(x, y));
+            texel[3] = toUnorm16(texture.back.at(x, y));
+        }
+    }
+    GpuMaterial result;
+    result.mRelief = makeTexture(GL_RGBA16, width, height, GL_RGBA, GL_UNSIGNED_SHORT, texels, 4);
+    result.mColor = makeColorTexture(Image());
+    result.mDepthScale = texture.depthScale;
+    result.mAoDepthScale = texture.depthScale;
+    result.mWidth = width;
+    result.mHeight = height;
+    result.mDualDepth = true;
+    checkGl("uploadDualDepth");
+    return result;
+}
+
 void GpuMaterial::setLayer(int index, double tiling, double weightDepth, double weightNormal) {
     const std::string name = "GpuMaterial::setLayer: layers[" + std::to_string(index) + "]";
     if (index < 0 || index >= static_cast<int>(mLayers.size()))
@@ -711,6 +751,14 @@ void validateRequest(const RenderRequest& request) {
                         "render request: object " + std::to_string(i) + " has no mesh");
         }
         const GpuMaterial* material = request.objects[i].material;
+        const bool dualTechnique = request.relief.technique == Technique::DualDepth;
+        if (material != nullptr && material->isDualDepth() != dualTechnique) {
+            throw Error(
+                ErrorKind::InvalidInput,
+                "render request: object " + std::to_string(i) +
+                    (dualTechnique ? ": technique dual-depth needs a dual-depth texture (strata dual-depth)"
+                                   : ": a dual-depth texture draws only with technique dual-depth"));
+        }
         if (request.relief.technique == Technique::MaxMip && material != nullptr) {
             if (material->isLive()) {
                 throw Error(ErrorKind::InvalidInput, "render request: object " + std::to_string(i) +

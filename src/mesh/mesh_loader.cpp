@@ -21,6 +21,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 #include <tuple>
 
 namespace strata {
@@ -45,6 +46,7 @@ struct VertexSource {
 struct RawMesh {
     Mesh mesh;
     std::vector<VertexSource> source;  // one per vertex
+    bool missingUvs = false;           // some face had no texture coordinates (allowed by !requireUvs)
 };
 
 void requireFinite(const fs::path& path, const std::vector<float>& values, const char* what) {
@@ -58,7 +60,7 @@ void requireFinite(const fs::path& path, const std::vector<float>& values, const
 
 // --- OBJ ----------------------------------------------------------------------------------------------
 
-RawMesh readObj(const fs::path& path) {
+RawMesh readObj(const fs::path& path, bool requireUvs) {
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
     config.vertex_color = false;
@@ -90,7 +92,10 @@ RawMesh readObj(const fs::path& path) {
                 invalid(path, "face with " + std::to_string(corners) + " corners after triangulation");
             for (std::size_t k = 0; k < 3; ++k) {
                 const tinyobj::index_t& index = shape.mesh.indices[offset + k];
-                if (index.texcoord_index < 0) noTexCoords(path);
+                if (index.texcoord_index < 0) {
+                    if (requireUvs) noTexCoords(path);
+                    raw.missingUvs = true;
+                }
                 if (index.vertex_index < 0 || index.vertex_index >= positionCount ||
                     index.texcoord_index >= uvCount || index.normal_index >= normalCount) {
                     invalid(path, "face " + std::to_string(f) + " of '" + shape.name +
@@ -107,7 +112,8 @@ RawMesh readObj(const fs::path& path) {
                     const auto ti = static_cast<std::size_t>(index.texcoord_index);
                     v.position = {attrib.vertices[3 * vi], attrib.vertices[3 * vi + 1],
                                   attrib.vertices[3 * vi + 2]};
-                    v.uv = {attrib.texcoords[2 * ti], attrib.texcoords[2 * ti + 1]};
+                    if (index.texcoord_index >= 0)
+                        v.uv = {attrib.texcoords[2 * ti], attrib.texcoords[2 * ti + 1]};
                     if (index.normal_index >= 0) {
                         const auto ni = static_cast<std::size_t>(index.normal_index);
                         v.normal = {attrib.normals[3 * ni], attrib.normals[3 * ni + 1],
@@ -246,7 +252,7 @@ glm::dmat4 localMatrix(const tinygltf::Node& node) {
 }
 
 void appendPrimitive(const fs::path& path, const tinygltf::Model& model, const tinygltf::Primitive& primitive,
-                     const glm::dmat4& world, RawMesh& raw, MeshRepairReport& report) {
+                     const glm::dmat4& world, bool requireUvs, RawMesh& raw, MeshRepairReport& report) {
     const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
     if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
         mode != TINYGLTF_MODE_TRIANGLE_FAN) {
@@ -258,16 +264,20 @@ void appendPrimitive(const fs::path& path, const tinygltf::Model& model, const t
         return it == primitive.attributes.end() ? -1 : it->second;
     };
     if (attribute("POSITION") < 0) invalid(path, "a primitive has no POSITION");
-    if (attribute("TEXCOORD_0") < 0) noTexCoords(path);
+    const bool hasUvs = attribute("TEXCOORD_0") >= 0;
+    if (!hasUvs && requireUvs) noTexCoords(path);
     const std::vector<float> positions = readAccessor(path, model, attribute("POSITION"), 3, "POSITION");
-    const std::vector<float> uvs = readAccessor(path, model, attribute("TEXCOORD_0"), 2, "TEXCOORD_0");
+    const std::size_t count = positions.size() / 3;
+    const std::vector<float> uvs = hasUvs
+                                       ? readAccessor(path, model, attribute("TEXCOORD_0"), 2, "TEXCOORD_0")
+                                       : std::vector<float>(2 * count, 0.0f);
+    raw.missingUvs = raw.missingUvs || !hasUvs;
     const bool hasNormals = attribute("NORMAL") >= 0;
     const bool hasTangents = attribute("TANGENT") >= 0;
     const std::vector<float> normals =
         hasNormals ? readAccessor(path, model, attribute("NORMAL"), 3, "NORMAL") : std::vector<float>();
     const std::vector<float> tangents =
         hasTangents ? readAccessor(path, model, attribute("TANGENT"), 4, "TANGENT") : std::vector<float>();
-    const std::size_t count = positions.size() / 3;
     if (uvs.size() / 2 != count || (hasNormals && normals.size() / 3 != count) ||
         (hasTangents && tangents.size() / 4 != count)) {
         invalid(path, "a primitive's attributes have different counts");
@@ -332,7 +342,7 @@ void appendPrimitive(const fs::path& path, const tinygltf::Model& model, const t
 }
 
 void appendNode(const fs::path& path, const tinygltf::Model& model, int nodeIndex, const glm::dmat4& parent,
-                std::set<int>& visiting, RawMesh& raw, MeshRepairReport& report) {
+                bool requireUvs, std::set<int>& visiting, RawMesh& raw, MeshRepairReport& report) {
     if (nodeIndex < 0 || static_cast<std::size_t>(nodeIndex) >= model.nodes.size()) {
         invalid(path, "node " + std::to_string(nodeIndex) + " does not exist");
     }
@@ -343,14 +353,14 @@ void appendNode(const fs::path& path, const tinygltf::Model& model, int nodeInde
     if (node.mesh >= 0) {
         for (const tinygltf::Primitive& primitive :
              model.meshes.at(static_cast<std::size_t>(node.mesh)).primitives) {
-            appendPrimitive(path, model, primitive, world, raw, report);
+            appendPrimitive(path, model, primitive, world, requireUvs, raw, report);
         }
     }
-    for (int child : node.children) appendNode(path, model, child, world, visiting, raw, report);
+    for (int child : node.children) appendNode(path, model, child, world, requireUvs, visiting, raw, report);
     visiting.erase(nodeIndex);
 }
 
-RawMesh readGltf(const fs::path& path, bool binary, MeshRepairReport& report) {
+RawMesh readGltf(const fs::path& path, bool binary, bool requireUvs, MeshRepairReport& report) {
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&skipImage, nullptr);
     tinygltf::Model model;
@@ -366,7 +376,7 @@ RawMesh readGltf(const fs::path& path, bool binary, MeshRepairReport& report) {
     if (model.scenes.empty()) {
         for (const tinygltf::Mesh& mesh : model.meshes) {
             for (const tinygltf::Primitive& primitive : mesh.primitives) {
-                appendPrimitive(path, model, primitive, glm::dmat4(1.0), raw, report);
+                appendPrimitive(path, model, primitive, glm::dmat4(1.0), requireUvs, raw, report);
             }
         }
     } else {
@@ -376,10 +386,119 @@ RawMesh readGltf(const fs::path& path, bool binary, MeshRepairReport& report) {
         }
         std::set<int> visiting;
         for (int node : model.scenes[static_cast<std::size_t>(sceneIndex)].nodes) {
-            appendNode(path, model, node, glm::dmat4(1.0), visiting, raw, report);
+            appendNode(path, model, node, glm::dmat4(1.0), requireUvs, visiting, raw, report);
         }
     }
     return raw;
+}
+
+// --- OFF ----------------------------------------------------------------------------------------------
+
+// Object File Format (Geomview): "OFF" (optionally with the counts on the same line), then "V F E", V lines
+// "x y z [...]" and F lines "n i0 .. i(n-1) [colour]"; '#' starts a comment. Polygons become fans. The
+// variants that add per-vertex fields (COFF, NOFF, STOFF, 4OFF, nOFF, binary OFF) are refused by name
+// rather than misread.
+RawMesh readOff(const fs::path& path, bool requireUvs) {
+    if (requireUvs) noTexCoords(path);
+    std::ifstream in(path, std::ios::binary);
+    std::vector<std::string> lines;
+    std::vector<std::size_t> lineNumbers;
+    std::string line;
+    for (std::size_t number = 1; std::getline(in, line); ++number) {
+        const std::size_t hash = line.find('#');
+        if (hash != std::string::npos) line.erase(hash);
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        lines.push_back(line);
+        lineNumbers.push_back(number);
+    }
+    std::size_t next = 0;
+    auto where = [&](std::size_t i) {
+        return "line " + std::to_string(i < lineNumbers.size() ? lineNumbers[i] : 0);
+    };
+    if (lines.empty()) invalid(path, "cannot parse OFF: the file is empty");
+    std::istringstream header(lines[next]);
+    std::string keyword;
+    header >> keyword;
+    if (keyword != "OFF") {
+        if (keyword.size() > 3 && keyword.substr(keyword.size() - 3) == "OFF")
+            throw Error(ErrorKind::Unsupported, path.string() + ": the OFF variant '" + keyword +
+                                                    "' is not supported (plain OFF is)");
+        invalid(path, "cannot parse OFF: the first line is not \"OFF\"");
+    }
+    long long vertexCount = -1, faceCount = -1, edgeCount = 0;
+    if (!(header >> vertexCount)) {
+        if (++next >= lines.size()) invalid(path, "cannot parse OFF: no counts line");
+        header = std::istringstream(lines[next]);
+        header >> vertexCount;
+    }
+    if (!(header >> faceCount) || vertexCount < 0 || faceCount < 0)
+        invalid(path, "cannot parse OFF: " + where(next) + ": expected the counts \"vertices faces edges\"");
+    (void)(header >> edgeCount);
+    ++next;
+    // Refuse counts the file cannot hold before allocating for them.
+    if (static_cast<unsigned long long>(vertexCount) + static_cast<unsigned long long>(faceCount) >
+        lines.size() - next)
+        invalid(path, "cannot parse OFF: the counts say " + std::to_string(vertexCount) + " vertices and " +
+                          std::to_string(faceCount) + " faces, but the file has " +
+                          std::to_string(lines.size() - next) + " lines after them");
+
+    RawMesh raw;
+    raw.mesh.name = path.string();
+    raw.missingUvs = true;
+    raw.mesh.vertices.resize(static_cast<std::size_t>(vertexCount));
+    std::vector<float> positions(3 * static_cast<std::size_t>(vertexCount));
+    for (std::size_t v = 0; v < static_cast<std::size_t>(vertexCount); ++v, ++next) {
+        std::istringstream fields(lines[next]);
+        double x = 0, y = 0, z = 0;
+        if (!(fields >> x >> y >> z))
+            invalid(path, "cannot parse OFF: " + where(next) + ": expected \"x y z\"");
+        raw.mesh.vertices[v].position = glm::vec3(glm::dvec3(x, y, z));
+        positions[3 * v] = float(x);
+        positions[3 * v + 1] = float(y);
+        positions[3 * v + 2] = float(z);
+    }
+    requireFinite(path, positions, "position");
+    for (long long f = 0; f < faceCount; ++f, ++next) {
+        std::istringstream fields(lines[next]);
+        long long corners = 0;
+        if (!(fields >> corners) || corners < 3)
+            invalid(path, "cannot parse OFF: " + where(next) + ": a face needs a corner count of at least 3");
+        std::vector<std::uint32_t> polygon;
+        for (long long k = 0; k < corners; ++k) {
+            long long index = -1;
+            if (!(fields >> index))
+                invalid(path, "cannot parse OFF: " + where(next) + ": the face has fewer than " +
+                                  std::to_string(corners) + " indices");
+            if (index < 0 || index >= vertexCount)
+                invalid(path, "face " + std::to_string(f) + " has an index out of range (" +
+                                  std::to_string(index) + ")");
+            polygon.push_back(static_cast<std::uint32_t>(index));
+        }
+        for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
+            raw.mesh.indices.push_back(polygon[0]);
+            raw.mesh.indices.push_back(polygon[k]);
+            raw.mesh.indices.push_back(polygon[k + 1]);
+        }
+    }
+    raw.source.assign(raw.mesh.vertices.size(), VertexSource{false, false});
+    return raw;
+}
+
+// Planar uvs for a file without texture coordinates (requireUvs = false): the positions projected onto the
+// plane of the bounds' two largest extents, scaled by the larger into [0, 1]. Only enough of a texture space
+// for the repairs and tangents to be well defined; not one to map a relief with.
+void assignPlanarUvs(Mesh& mesh) {
+    const Bounds bounds = meshBounds(mesh);
+    const glm::vec3 extent = bounds.max - bounds.min;
+    int drop = 0;  // the axis of the smallest extent
+    for (int a = 1; a < 3; ++a)
+        if (extent[a] < extent[drop]) drop = a;
+    const int u = (drop + 1) % 3, v = (drop + 2) % 3;
+    const float scale = std::max(extent[u], extent[v]);
+    for (MeshVertex& vertex : mesh.vertices) {
+        const glm::vec3 p = vertex.position - bounds.min;
+        vertex.uv = scale > 0.0f ? glm::vec2(p[u], p[v]) / scale : glm::vec2(0.0f);
+    }
 }
 
 std::string lowerExtension(const fs::path& path) {
@@ -399,9 +518,9 @@ Mesh loadMesh(const fs::path& path, const MeshLoadOptions& options) {
 Mesh loadMesh(const fs::path& path, const MeshLoadOptions& options, MeshRepairReport& report) {
     report = {};
     const std::string ext = lowerExtension(path);
-    if (ext != ".obj" && ext != ".gltf" && ext != ".glb") {
+    if (ext != ".obj" && ext != ".gltf" && ext != ".glb" && ext != ".off") {
         throw Error(ErrorKind::Unsupported, path.string() + ": unsupported mesh format '" + ext +
-                                                "' (Strata reads .obj, .gltf and .glb)");
+                                                "' (Strata reads .obj, .gltf, .glb and .off)");
     }
     std::error_code ec;
     if (!fs::exists(path, ec)) throw Error(ErrorKind::Io, path.string() + ": no such file");
@@ -409,7 +528,12 @@ Mesh loadMesh(const fs::path& path, const MeshLoadOptions& options, MeshRepairRe
         throw Error(ErrorKind::Io, path.string() + ": cannot be read");
     }
 
-    RawMesh raw = ext == ".obj" ? readObj(path) : readGltf(path, ext == ".glb", report);
+    RawMesh raw = ext == ".obj"   ? readObj(path, options.requireUvs)
+                  : ext == ".off" ? readOff(path, options.requireUvs)
+                                  : readGltf(path, ext == ".glb", options.requireUvs, report);
+    // One rule per file: if any face had no uvs, every vertex gets planar ones.
+    // (A non-finite position makes them non-finite too; repairMesh names the position first.)
+    if (raw.missingUvs) assignPlanarUvs(raw.mesh);
     const MeshRepairReport skipped = report;
     std::vector<std::uint32_t> remap;
     report = repairMesh(raw.mesh, &remap);

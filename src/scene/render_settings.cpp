@@ -19,6 +19,8 @@ const char* toString(Technique technique) {
             return "relief";
         case Technique::MaxMip:
             return "maxmip";
+        case Technique::DualDepth:
+            return "dual-depth";
     }
     return "?";
 }
@@ -54,7 +56,8 @@ Technique parseTechnique(const std::string& text) {
         if (text == toString(t)) return t;
     }
     throw Error(ErrorKind::InvalidInput,
-                "unknown technique '" + text + "' (expected texture, normal, parallax, relief or maxmip)");
+                "unknown technique '" + text +
+                    "' (expected texture, normal, parallax, relief, maxmip or dual-depth)");
 }
 
 RenderOutput parseRenderOutput(const std::string& text) {

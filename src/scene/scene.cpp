@@ -6,6 +6,7 @@
 #include "strata/mesh/builtin_meshes.h"
 #include "strata/mesh/mesh_loader.h"
 #include "strata/occlusion/ambient_occlusion.h"
+#include "strata/relief/dual_depth.h"
 #include "strata/relief/patterns.h"
 #include "strata/relief/texture_set.h"
 
@@ -218,6 +219,16 @@ ReliefTexture loadSceneMaterial(const Scene& scene, std::vector<std::string>* no
     }
     const fs::path asFile(scene.material);
     if (fs::exists(asFile)) {
+        if (isDualDepth(asFile)) {
+            // A dual-depth texture read as a single depth layer, its front surface (the impostor drawn by
+            // every technique but dual-depth, with the paper's "skins"; docs/dual-depth.md).
+            const DualDepthTexture dual = readDualDepth(asFile);
+            ReliefTexture texture;
+            texture.depth = dual.front;
+            texture.normal = dual.normal;
+            texture.depthScale = dual.depthScale;
+            return texture;
+        }
         const bool isTextureSet = fs::is_directory(asFile) || asFile.filename() == kSidecarName;
         if (isTextureSet) return readTextureSet(asFile);
         return composeMaterial(readMaterial(asFile), notes, progress);

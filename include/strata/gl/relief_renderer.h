@@ -16,6 +16,7 @@
 #include "strata/image/image.h"
 #include "strata/mesh/mesh.h"
 #include "strata/occlusion/meta_relief_ao.h"
+#include "strata/relief/dual_depth.h"
 #include "strata/relief/relief_texture.h"
 #include "strata/scene/camera.h"
 #include "strata/scene/render_settings.h"
@@ -114,6 +115,9 @@ public:
     // each bilinear cell, level k of 2^k x 2^k cells. 0 when the depth map's sides are not powers of two
     // (or for a live material): maxmip then refuses to render.
     unsigned maxMipTexture() const { return mMaxMip; }
+    // A dual-depth texture (uploadDualDepth): its packed texture holds (nx, ny, front, back), and only
+    // Technique::DualDepth draws it.
+    bool isDualDepth() const { return mDualDepth; }
     int maxMipLevels() const { return mMaxMipLevels; }
 
     double depthScale() const { return mDepthScale; }      // S the normal map is valid for
@@ -127,6 +131,7 @@ public:
 
 private:
     friend GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale);
+    friend GpuMaterial uploadDualDepth(const DualDepthTexture& texture);
     friend GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers,
                                           const ComposeParams& compose, std::optional<MetaAoMode> ao,
                                           const AoParams& aoParams, std::span<const Image> layerAo);
@@ -139,6 +144,7 @@ private:
     int mColorLayer = -1;
     unsigned mComposedAo = 0;
     unsigned mMaxMip = 0;
+    bool mDualDepth = false;
     int mMaxMipLevels = 0;
     double mDepthScale = kDefaultDepthScale;
     double mAoDepthScale = kDefaultDepthScale;
@@ -175,6 +181,12 @@ GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const C
 GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const ComposeParams& compose,
                                std::optional<MetaAoMode> ao, const AoParams& aoParams,
                                std::span<const Image> layerAo);
+
+// A dual-depth texture (Policarpo et al. 2005, Sec. 4; strata/relief/dual_depth.h) for Technique::DualDepth:
+// RGBA16 (nx * 0.5 + 0.5, ny * 0.5 + 0.5, front, back) with mipmaps, white colour, no AO, S = its depth
+// scale. Throws Error(InvalidInput) for maps of other channel counts or sizes, or a depth scale that is not >
+// 0.
+GpuMaterial uploadDualDepth(const DualDepthTexture& texture);
 
 // The most layers a live meta-relief has (the shader's sampler array).
 inline constexpr int kMaxLiveLayers = 8;

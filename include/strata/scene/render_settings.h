@@ -11,7 +11,9 @@
 //             appendix's ray_intersect_rm), with self-shadowing by the same search along the light ray;
 //   maxmip    exact: maximum-mipmap traversal (Tevs, Ihrke, Seidel 2008) down to the cell, where the ray
 //   meets
-//             the bilinear patch of CONVENTIONS §1 in closed form; no step count (docs/renderer.md).
+//             the bilinear patch of CONVENTIONS §1 in closed form; no step count (docs/renderer.md);
+//   dual-depth the paper's Sec. 4: a dual-depth texture (strata/relief/dual_depth.h) as an impostor, the
+//             relief search with the inside test front <= d <= back.
 #pragma once
 
 #include <glm/vec3.hpp>
@@ -21,11 +23,11 @@
 
 namespace strata {
 
-enum class Technique { Texture, Normal, Parallax, Relief, MaxMip };
+enum class Technique { Texture, Normal, Parallax, Relief, MaxMip, DualDepth };
 
 // Every technique, in the order above.
 inline constexpr Technique kAllTechniques[] = {Technique::Texture, Technique::Normal, Technique::Parallax,
-                                               Technique::Relief, Technique::MaxMip};
+                                               Technique::Relief,  Technique::MaxMip, Technique::DualDepth};
 
 // What a pixel of the picture holds (CONVENTIONS §7 for uv, shadow and depth).
 enum class RenderOutput {

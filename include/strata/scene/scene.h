@@ -17,9 +17,9 @@
 // Meshes ("mesh"): a built-in name (builtinMeshList(): teapot, cube, sphere, torus, cylinder, plane, quad) or
 // a mesh file (.obj, .gltf, .glb). A name is a built-in unless a file of that name exists. Materials
 // ("material"): in this order,
-//   - an existing path: a material JSON (composed on load, docs/material.md), or a texture set directory or
-//   its
-//     strata.json (docs/texture-sets.md);
+//   - an existing path: a material JSON (composed on load, docs/material.md), a texture set directory or its
+//     strata.json (docs/texture-sets.md), or a dual-depth texture's directory (strata/relief/dual_depth.h:
+//     its front layer as the depth, unless the technique is dual-depth, docs/dual-depth.md);
 //   - "shaped-fabric": the built-in material of the main job (examples/shaped_fabric.json: base + fabric,
 //     weights 1.0 / 0.3, exact AO);
 //   - a built-in pattern name (patternList()), at 512^2, seed 1, with exact AO.
