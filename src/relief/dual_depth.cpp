@@ -1,6 +1,7 @@
 #include "strata/relief/dual_depth.h"
 
 #include "core/json_reader.h"
+#include "core/staging_dir.h"
 #include "strata/core/check.h"
 #include "strata/core/error.h"
 #include "strata/core/file.h"
@@ -50,36 +51,6 @@ std::array<int, 3> frameOf(Axis axis) {
     const int n = axis == Axis::X ? 0 : axis == Axis::Y ? 1 : 2;
     return {(n + 1) % 3, (n + 2) % 3, n};
 }
-
-// The staging directory for `dir`'s files, beside the nearest existing ancestor, removed with whatever is
-// left in it on destruction: nothing appears in `dir` (not even `dir` itself) until every file is complete.
-class StagingDir {
-public:
-    explicit StagingDir(const fs::path& dir) {
-        static std::atomic<unsigned> counter{0};
-        std::error_code ec;
-        fs::path parent = fs::absolute(dir, ec).parent_path();
-        while (!parent.empty() && !fs::is_directory(parent, ec) && parent != parent.parent_path())
-            parent = parent.parent_path();
-        if (parent.empty()) parent = ".";
-        mPath = parent / ("." + dir.filename().string() + ".staging" + std::to_string(::getpid()) + "-" +
-                          std::to_string(counter++));
-        fs::create_directories(mPath, ec);
-        if (ec)
-            throw Error(ErrorKind::Io,
-                        dir.string() + ": cannot create a staging directory beside it: " + ec.message());
-    }
-    ~StagingDir() {
-        std::error_code ec;
-        fs::remove_all(mPath, ec);
-    }
-    StagingDir(const StagingDir&) = delete;
-    StagingDir& operator=(const StagingDir&) = delete;
-    const fs::path& path() const { return mPath; }
-
-private:
-    fs::path mPath;
-};
 
 fs::path sidecarPathOf(const fs::path& path) {
     std::error_code ec;
@@ -288,7 +259,7 @@ std::vector<fs::path> writeDualDepth(const fs::path& dir, const DualDepthTexture
 
     // Both files are finished in a staging directory first; the sidecar, which is what makes `dir` a
     // dual-depth texture, moves into place last.
-    StagingDir staging(dir);
+    detail::StagingDir staging(dir);
     writePng(staging.path() / kPacked, packed, {PngBitDepth::Sixteen, false});
     writeTextFileAtomic(staging.path() / kSidecar, sidecar.dump(2) + "\n");
     fs::create_directories(dir, ec);

@@ -6,6 +6,8 @@
 #include "strata/image/image_io.h"
 #include "strata/image/image_ops.h"
 
+#include "core/staging_dir.h"
+
 #include <nlohmann/json.hpp>
 
 #include <unistd.h>
@@ -35,43 +37,6 @@ Image resampleNormals(const Image& normals, int width, int height) {
         }
     return out;
 }
-
-// The nearest directory at or above `dir`'s parent that exists: staging there keeps the final
-// renames on one file system without creating any directory before the set is complete.
-fs::path existingAncestor(const fs::path& dir) {
-    std::error_code ec;
-    fs::path parent = fs::absolute(dir, ec).parent_path();
-    while (!parent.empty() && !fs::is_directory(parent, ec) && parent != parent.parent_path())
-        parent = parent.parent_path();
-    return parent.empty() ? fs::path(".") : parent;
-}
-
-// A staging directory for `dir`'s files, removed with everything in it on destruction.
-class StagingDir {
-public:
-    explicit StagingDir(const fs::path& dir) {
-        static std::atomic<unsigned> counter{0};
-        std::string name = ".";
-        name += dir.filename().string();
-        name += ".staging" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-        mPath = existingAncestor(dir) / name;
-        std::error_code ec;
-        fs::create_directories(mPath, ec);
-        if (ec)
-            throw Error(ErrorKind::Io,
-                        dir.string() + ": cannot create a staging directory beside it: " + ec.message());
-    }
-    ~StagingDir() {
-        std::error_code ec;
-        fs::remove_all(mPath, ec);
-    }
-    StagingDir(const StagingDir&) = delete;
-    StagingDir& operator=(const StagingDir&) = delete;
-    const fs::path& path() const { return mPath; }
-
-private:
-    fs::path mPath;
-};
 
 }  // namespace
 
@@ -163,7 +128,7 @@ std::vector<fs::path> writeTextureSet(const fs::path& dir, const ReliefTexture& 
     // Everything is written into the staging directory first, so any failure leaves `dir` untouched
     // (and uncreated, if it did not exist).
     std::vector<std::string> names;
-    StagingDir staging(dir);
+    detail::StagingDir staging(dir);
     auto stage = [&](const std::string& name, const Image& image, const PngWriteOptions& png) {
         refuseToOverwriteInputs(dir / name, options.inputs);
         writePng(staging.path() / name, image, png);
