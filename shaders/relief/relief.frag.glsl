@@ -146,6 +146,9 @@ void main() {
     // Derivatives in uniform control flow, for textureGrad inside the searches (relief_search.glsl).
     gTileDx = dFdx(tile);
     gTileDy = dFdy(tile);
+#ifdef STRATA_META_LIVE
+    layerLods();
+#endif
 
     // Paper appendix: v = normalize(p), the view vector, and s, the view vector in tangent space with z
     // pointing into the surface (s.z = dot(N, -v)); here in tile units (see "Spaces").

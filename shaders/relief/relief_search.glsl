@@ -40,11 +40,25 @@ uniform int uLayerCount;
 uniform float uLayerTiling[kMaxLayers];
 uniform float uLayerDepthWeight[kMaxLayers];  // w_d,i / W
 
-// Layer i at tile coordinates uv: the layer repeats t_i times per tile, so its footprint is t_i times larger.
+// Each layer's mip level for the fragment, set once in uniform control flow (layerLods): the searches read
+// every layer at every step, and an explicit level spares each fetch the derivative-to-level computation.
+float gLayerLod[kMaxLayers];
+
+// GL's isotropic level of detail for layer i: the layer repeats t_i times per tile, so its footprint is
+// t_i times larger.
+void layerLods() {
+    for (int i = 0; i < kMaxLayers; ++i) {
+        vec2 size = vec2(textureSize(uLayers[i], 0)) * uLayerTiling[i];
+        float footprint = max(length(gTileDx * size), length(gTileDy * size));
+        gLayerLod[i] = log2(max(footprint, 1e-8));
+    }
+}
+
+// Layer i at tile coordinates uv.
 vec4 layerSample(int i, vec2 uv) {
     float t = uLayerTiling[i];
 #ifdef STRATA_OUTPUT_SHADED
-    return textureGrad(uLayers[i], uv * t, gTileDx * t, gTileDy * t);
+    return textureLod(uLayers[i], uv * t, gLayerLod[i]);
 #else
     return textureLod(uLayers[i], uv * t, 0.0);
 #endif
