@@ -26,10 +26,10 @@ uniform int uMaxMipLevels;                       // levels of uMaxMip (the top o
 // With s, t the ray's position in the cell (affine in d) the depth under it is
 // D = a + b s + c t + e s t, so f(d) = D - d is a quadratic; measured from dA, where the ray is above the
 // surface (f > 0) unless rounding put it just inside.
-float maxMipCell(vec2 cell, vec2 c0, vec2 cd, float dA, float dB) {
+float maxMipCell(vec2 cell, vec2 size, vec2 c0, vec2 cd, float dA, float dB) {
     // The four corner depths: textureGather at the cell's centre reads exactly its 2x2 texels (wrapping);
     // components x = (i, j+1), y = (i+1, j+1), z = (i+1, j), w = (i, j).
-    vec4 g = textureGather(uRelief, (cell + 1.0) / vec2(textureSize(uRelief, 0)), 3);
+    vec4 g = textureGather(uRelief, (cell + 1.0) / size, 3);
     float a = g.w;
     float b = g.z - g.w;
     float c = g.x - g.w;
@@ -58,8 +58,8 @@ float maxMipCell(vec2 cell, vec2 c0, vec2 cd, float dA, float dB) {
 }
 
 // Depth t in [0, 1] of the first intersection of the ray (dp, ds) (relief_search.glsl's form) with the
-// bilinear height field of uRelief's base level. `steps` returns the iterations (node reads) taken.
-float maxMipIntersect(vec2 dp, vec2 ds, out int steps) {
+// bilinear height field of uRelief's base level.
+float maxMipIntersect(vec2 dp, vec2 ds) {
     vec2 size = vec2(textureSize(uRelief, 0));
     vec2 c0 = dp * size - 0.5;
     vec2 cd = ds * size;
@@ -72,9 +72,7 @@ float maxMipIntersect(vec2 dp, vec2 ds, out int steps) {
     // is never left before the ray reaches its highest point, so reading it only costs a fetch.
     int level = min(top, int(ceil(log2(max(max(abs(cd.x), abs(cd.y)), 1.0)))));
     float d = 0.0;
-    steps = 0;
     for (int iteration = 0; iteration < 1024; ++iteration) {
-        ++steps;
         float width = exp2(float(level));
         // A point on a face belongs to the node ahead of it: nudged by a few float steps of its magnitude.
         vec2 c = c0 + cd * d;
@@ -84,7 +82,7 @@ float maxMipIntersect(vec2 dp, vec2 ds, out int steps) {
         exits = mix(exits, vec2(1e30), greaterThan(abs(inverse), vec2(1e29)));
         float dExit = min(min(exits.x, exits.y), 1.0);
         if (level == 0) {
-            float hit = maxMipCell(node, c0, cd, d, dExit);
+            float hit = maxMipCell(node, size, c0, cd, d, dExit);
             if (hit >= 0.0) return hit;
             if (dExit >= 1.0) break;
             d = dExit;

@@ -179,8 +179,7 @@ void main() {
 #elif defined(STRATA_TECHNIQUE_MAXMIP)
     // Exact intersection (maxmip.glsl): no steps, no search window.
     if (entering) {
-        int steps;
-        hitDepth = maxMipIntersect(tile, s.xy * uDepthScale / s.z, steps);
+        hitDepth = maxMipIntersect(tile, s.xy * uDepthScale / s.z);
         hitUv = tile + s.xy * uDepthScale / s.z * hitDepth;
     } else {
         hit = false;
@@ -260,8 +259,7 @@ void main() {
         // the point itself (within the bias of relief_search.glsl).
         if (toLightTile.z > 0.0) {
             vec2 up = toLightTile.xy * uDepthScale / toLightTile.z;
-            int steps;
-            float first = maxMipIntersect(shadowUv + up * shadowDepth, -up, steps);
+            float first = maxMipIntersect(shadowUv + up * shadowDepth, -up);
             lit = first >= shadowDepth - kShadowBias;
         } else {
             lit = false;

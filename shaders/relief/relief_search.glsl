@@ -48,6 +48,7 @@ float gLayerLod[kMaxLayers];
 // t_i times larger.
 void layerLods() {
     for (int i = 0; i < kMaxLayers; ++i) {
+        if (i >= uLayerCount) break;
         vec2 size = vec2(textureSize(uLayers[i], 0)) * uLayerTiling[i];
         float footprint = max(length(gTileDx * size), length(gTileDy * size));
         gLayerLod[i] = log2(max(footprint, 1e-8));

@@ -4,6 +4,7 @@
 //
 // The end-to-end tests need the built viewer (STRATA_BUILD_VIEWER) and, for the window, xvfb-run
 // (scripts/install-deps.sh installs it); without them they skip.
+#include "gl_test_support.h"
 #include "test_support.h"
 
 #include "material_bake.h"
@@ -260,26 +261,13 @@ TEST(ViewerBake, FailureNamesTheLayerAndTheNextBakeRecovers) {
 
 // --- the CPU -> GPU pipeline, live and baked -------------------------------------------------------------
 
-// One headless context for the pipeline tests (MaterialPipeline uploads on the calling thread); null where
-// none can be made, and the tests skip.
-gl::HeadlessContext* glContext(std::string* whyNot) {
-    static std::string failure;
-    static std::unique_ptr<gl::HeadlessContext> context = [] {
-        try {
-            return gl::HeadlessContext::create();
-        } catch (const std::exception& error) {
-            failure = error.what();
-            return std::unique_ptr<gl::HeadlessContext>();
-        }
-    }();
-    *whyNot = failure;
-    return context.get();
-}
-
-#define SKIP_WITHOUT_GL()                                                                            \
-    do {                                                                                             \
-        std::string whyNot;                                                                          \
-        if (glContext(&whyNot) == nullptr) GTEST_SKIP() << "no OpenGL 4.5 core context: " << whyNot; \
+// The pipeline tests need a current GL context (MaterialPipeline uploads on the calling thread): the suite's
+// one headless context (gl_test_support.h); the tests skip where none can be made.
+#define SKIP_WITHOUT_GL()                                             \
+    do {                                                              \
+        std::string whyNot;                                           \
+        if (test::sharedGlContext(&whyNot) == nullptr)                \
+            GTEST_SKIP() << "no OpenGL 4.5 core context: " << whyNot; \
     } while (false)
 
 BakeRequest liveRequest(std::optional<MetaAoMode> ao) {

@@ -1,6 +1,6 @@
-// Shared by the gl suite: one headless context for the whole test process, and a fixture that skips
-// cleanly (GTEST_SKIP) where no OpenGL 4.5 core context can be made, and fails a test that leaves a GL
-// error behind.
+// Shared by the suites that need OpenGL (gl, viewer): one headless context for the whole test process, and a
+// fixture that skips cleanly (GTEST_SKIP) where no OpenGL 4.5 core context can be made, and fails a test that
+// leaves a GL error behind.
 #pragma once
 
 #include "strata/gl/context.h"
