@@ -18,6 +18,7 @@
 #include "strata/gl/context.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
+#include "strata/relief/max_mip.h"
 #include "strata/relief/patterns.h"
 #include "strata/relief/relief_texture.h"
 #include "strata/scene/camera.h"
@@ -95,54 +96,24 @@ Camera camera(double angleDegrees) {
     return c;
 }
 
-// The maximum mipmap of maxmip.glsl on the CPU, in image rows (v down) with cell (i, j) between texels
-// (i, j) .. (i + 1, j + 1): the traversal below works in the same frame, so the GL row flip does not matter.
+// The maximum mipmap (strata/relief/max_mip.h) and the depth map, read in its frame (v up, wrapping).
 struct MaxMip {
-    std::vector<std::vector<double>> levels;  // levels[k][y * w_k + x]
-    std::vector<int> widths, heights;
+    std::vector<Image> levels;
     const Image* depth = nullptr;
 
-    explicit MaxMip(const Image& d) : depth(&d) {
-        int w = d.width(), h = d.height();
-        std::vector<double> level(static_cast<std::size_t>(w) * h);
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-                level[static_cast<std::size_t>(y) * w + x] = std::min(
-                    {d.at(x, y), d.at((x + 1) % w, y), d.at(x, (y + 1) % h), d.at((x + 1) % w, (y + 1) % h)});
-        for (;;) {
-            levels.push_back(level);
-            widths.push_back(w);
-            heights.push_back(h);
-            if (w == 1 && h == 1) break;
-            const int nw = std::max(1, w / 2), nh = std::max(1, h / 2);
-            std::vector<double> next(static_cast<std::size_t>(nw) * nh, 2.0);
-            for (int y = 0; y < nh; ++y)
-                for (int x = 0; x < nw; ++x)
-                    for (int dy = 0; dy < (h > 1 ? 2 : 1); ++dy)
-                        for (int dx = 0; dx < (w > 1 ? 2 : 1); ++dx)
-                            next[static_cast<std::size_t>(y) * nw + x] =
-                                std::min(next[static_cast<std::size_t>(y) * nw + x],
-                                         level[static_cast<std::size_t>(2 * y + dy) * w + 2 * x + dx]);
-            level = std::move(next);
-            w = nw;
-            h = nh;
-        }
-    }
+    explicit MaxMip(const Image& d) : levels(maxMipPyramid(d)), depth(&d) {}
+    static int wrap(double x, int n) { return static_cast<int>(x - std::floor(x / n) * n); }
     double node(int k, double x, double y) const {
-        const int w = widths[k], h = heights[k];
-        const int ix = static_cast<int>(x - std::floor(x / w) * w),
-                  iy = static_cast<int>(y - std::floor(y / h) * h);
-        return levels[k][static_cast<std::size_t>(iy) * w + ix];
+        const Image& level = levels[static_cast<std::size_t>(k)];
+        return level.at(wrap(x, level.width()), wrap(y, level.height()));
     }
     double texel(double x, double y) const {
-        const int w = depth->width(), h = depth->height();
-        const int ix = static_cast<int>(x - std::floor(x / w) * w),
-                  iy = static_cast<int>(y - std::floor(y / h) * h);
-        return depth->at(ix, iy);
+        const int h = depth->height();
+        return depth->at(wrap(x, depth->width()), h - 1 - wrap(y, h));
     }
 };
 
-// maxMipIntersect's loop (maxmip.glsl) in double, in image coordinates; returns the fetches it makes.
+// maxMipIntersect's loop (maxmip.glsl) in double, in its cell coordinates; returns the fetches it makes.
 int maxMipFetches(const MaxMip& mip, glm::dvec2 c0, glm::dvec2 cd) {
     const int top = static_cast<int>(mip.levels.size()) - 1;
     int level = std::min(
@@ -283,9 +254,9 @@ void BM_Technique(benchmark::State& state) {
                     const glm::dvec2 entry(cam.eye.x + t * dir.x, cam.eye.y + t * dir.y);
                     const glm::dvec2 ds = glm::dvec2(dir.x, dir.y) * kDepthScale / -dir.z;
                     if (which == 3) {
-                        // Image coordinates: x = u W - 0.5, y = (1 - v) H - 0.5 (rows go down).
-                        const glm::dvec2 c0(entry.x * kMapSize - 0.5, (1.0 - entry.y) * kMapSize - 0.5);
-                        const glm::dvec2 cd(ds.x * kMapSize, -ds.y * kMapSize);
+                        // Cell coordinates, as the shader: c = uv * size - 0.5.
+                        const glm::dvec2 c0 = entry * double(kMapSize) - 0.5;
+                        const glm::dvec2 cd = ds * double(kMapSize);
                         fetches.push_back(maxMipFetches(mip, c0, cd));
                     } else if (which == 2) {
                         fetches.push_back(1);

@@ -5,6 +5,7 @@
 #include "strata/gl/gl_error.h"
 #include "strata/gl/program.h"
 #include "strata/occlusion/ambient_occlusion.h"
+#include "strata/relief/max_mip.h"
 #include "strata/relief/texture_set.h"
 
 #include <epoxy/gl.h>
@@ -304,51 +305,22 @@ bool isPowerOfTwo(int n) {
     return n > 0 && (n & (n - 1)) == 0;
 }
 
-// The maximum mipmap of maxmip.glsl, from the depth as the relief texture stores it (16 bits), in GL's row
-// order (row 0 = v's first texel row). Level 0: per cell (i, j), between texel centres i, i + 1 and j, j + 1
-// (wrapping), the smallest of the four; level k: the smallest of the 2x2 nodes below (a side that has
-// shrunk to 1 stays 1, its node covering the whole side). Power-of-two sides only.
+// The maximum mipmap (strata/relief/max_mip.h, already in GL's row order) as R16 with explicit levels.
 GLuint makeMaxMip(const Image& depth, int* levelCount) {
-    const int width = depth.width();
-    const int height = depth.height();
-    std::vector<std::uint16_t> level(static_cast<std::size_t>(width) * height);
-    const auto texel = [&](int x, int y) {
-        // GL row y is the image row height - 1 - y (uploads are flipped so that t = v).
-        return toUnorm16(depth.at(x % width, height - 1 - (y % height)));
-    };
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
-            level[static_cast<std::size_t>(y) * width + x] =
-                std::min({texel(x, y), texel(x + 1, y), texel(x, y + 1), texel(x + 1, y + 1)});
-    const int levels = mipLevels(width, height);
+    const std::vector<Image> levels = maxMipPyramid(depth);
     GLuint texture = 0;
     glCreateTextures(GL_TEXTURE_2D, 1, &texture);
-    glTextureStorage2D(texture, levels, GL_R16, width, height);
+    glTextureStorage2D(texture, static_cast<GLsizei>(levels.size()), GL_R16, depth.width(), depth.height());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    int w = width;
-    int h = height;
-    for (int k = 0; k < levels; ++k) {
-        glTextureSubImage2D(texture, k, 0, 0, w, h, GL_RED, GL_UNSIGNED_SHORT, level.data());
-        if (k + 1 == levels) break;
-        const int nw = std::max(1, w / 2);
-        const int nh = std::max(1, h / 2);
-        std::vector<std::uint16_t> next(static_cast<std::size_t>(nw) * nh);
-        for (int y = 0; y < nh; ++y) {
-            for (int x = 0; x < nw; ++x) {
-                std::uint16_t m = std::numeric_limits<std::uint16_t>::max();
-                for (int dy = 0; dy < (h > 1 ? 2 : 1); ++dy)
-                    for (int dx = 0; dx < (w > 1 ? 2 : 1); ++dx)
-                        m = std::min(m, level[static_cast<std::size_t>(2 * y + dy) * w + (2 * x + dx)]);
-                next[static_cast<std::size_t>(y) * nw + x] = m;
-            }
-        }
-        level = std::move(next);
-        w = nw;
-        h = nh;
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+        std::vector<std::uint16_t> texels(levels[k].pixels().size());
+        std::transform(levels[k].pixels().begin(), levels[k].pixels().end(), texels.begin(), toUnorm16);
+        glTextureSubImage2D(texture, static_cast<GLint>(k), 0, 0, levels[k].width(), levels[k].height(),
+                            GL_RED, GL_UNSIGNED_SHORT, texels.data());
     }
     glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
     glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    *levelCount = levels;
+    *levelCount = static_cast<int>(levels.size());
     return texture;
 }
 
