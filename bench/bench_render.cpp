@@ -9,6 +9,8 @@
 // One frame = render(): draw and the read-back of the picture into a strata::Image (the
 // read-back is a few percent of a frame at these sizes). Reported as time per frame.
 // Run: build/release/bench/bench_render
+#include "shader_loops.h"
+
 #include "strata/compose/compose.h"
 #include "strata/gl/context.h"
 #include "strata/gl/relief_renderer.h"
@@ -224,32 +226,12 @@ void BM_FetchesPerPixel(benchmark::State& state) {
                     hitUv = entry + ds * tracer.depthAt(entry.x, entry.y);
                 }
                 if (technique == Technique::Relief) {
-                    // relief_search.glsl, reliefIntersect.
-                    const int n = adaptiveLinearSteps(linear, -dir.z);
-                    double size = 1.0 / n, depth = 0.0, best = 1.0;
-                    for (int i = 0; i < n - 1; ++i) {
-                        depth += size;
-                        ++fetches;
-                        const glm::dvec2 uv = entry + ds * depth;
-                        if (depth >= tracer.depthAt(uv.x, uv.y)) {
-                            best = depth;
-                            break;
-                        }
-                    }
-                    depth = best;
-                    for (int i = 0; i < binary; ++i) {
-                        size *= 0.5;
-                        ++fetches;
-                        const glm::dvec2 uv = entry + ds * depth;
-                        if (depth >= tracer.depthAt(uv.x, uv.y)) {
-                            best = depth;
-                            depth -= 2.0 * size;
-                        }
-                        depth += size;
-                    }
-                    hitUv = entry + ds * best;
-                    hitDepth = best;
-                    bracket = 1.0 / (n * std::exp2(std::max(binary - 1, 0)));
+                    const bench::ReliefSearch search =
+                        bench::reliefIntersect(tracer, entry, ds, -dir.z, linear, binary);
+                    fetches += search.fetches;
+                    hitUv = entry + ds * search.depth;
+                    hitDepth = search.depth;
+                    bracket = search.bracket;
                 } else {
                     // The other techniques test the relief point under the uv they shade.
                     ++fetches;

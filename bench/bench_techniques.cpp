@@ -15,6 +15,8 @@
 // off by more than 0.05 texel each way), overP99 / underP99 (99th percentile uv error in texels among those
 // pixels, 0 if none). The benchmark time is that of the whole measurement, not of a frame.
 // Run: build/release/bench/bench_techniques
+#include "shader_loops.h"
+
 #include "strata/gl/context.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
@@ -166,22 +168,6 @@ int maxMipFetches(const MaxMip& mip, glm::dvec2 c0, glm::dvec2 cd) {
     return fetches;
 }
 
-// reliefIntersect's loop (relief_search.glsl) on the bilinear field; returns the fetches.
-int reliefFetches(const HeightFieldTracer& tracer, glm::dvec2 entry, glm::dvec2 ds, double cosTheta,
-                  int linear, int binary) {
-    const int n = adaptiveLinearSteps(linear, cosTheta);
-    int fetches = 0;
-    const double size = 1.0 / n;
-    double depth = 0.0;
-    for (int i = 0; i < n - 1; ++i) {
-        depth += size;
-        ++fetches;
-        const glm::dvec2 uv = entry + ds * depth;
-        if (depth >= tracer.depthAt(uv.x, uv.y)) break;
-    }
-    return fetches + binary;  // the binary search always takes its steps
-}
-
 const std::vector<std::string>& maps() {
     static const std::vector<std::string> names = [] {
         std::vector<std::string> list;
@@ -261,7 +247,9 @@ void BM_Technique(benchmark::State& state) {
                     } else if (which == 2) {
                         fetches.push_back(1);
                     } else {
-                        fetches.push_back(reliefFetches(tracer, entry, ds, -dir.z, which == 0 ? 32 : 64, 8));
+                        fetches.push_back(
+                            bench::reliefIntersect(tracer, entry, ds, -dir.z, which == 0 ? 32 : 64, 8)
+                                .fetches);
                     }
                 }
             }
