@@ -450,7 +450,15 @@ GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const C
                     steepest = std::max(steepest, std::hypot(static_cast<double>(gradient.at(x, y, 0)),
                                                              static_cast<double>(gradient.at(x, y, 1))));
             gpu.normalScale = steepest > 0.0 ? 0.25 / steepest : 1.0;
-            packed.normal = normalsFromDepth(layer.texture.depth, gpu.normalScale);
+            // normalize(S_L g, 1), as normalsFromDepth at S_L, from the gradient already at hand.
+            const auto scale = static_cast<float>(gpu.normalScale);
+            packed.normal = Image(gradient.width(), gradient.height(), 3);
+            for (int y = 0; y < gradient.height(); ++y)
+                for (int x = 0; x < gradient.width(); ++x) {
+                    const glm::vec3 n = glm::normalize(
+                        glm::vec3(scale * gradient.at(x, y, 0), scale * gradient.at(x, y, 1), 1.0f));
+                    for (int c = 0; c < 3; ++c) packed.normal.at(x, y, c) = n[c];
+                }
         } else {
             packed.normal = layer.texture.normal;
         }
