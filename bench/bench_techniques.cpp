@@ -4,10 +4,12 @@
 // Conditions: the verification quad (CONVENTIONS §7), 192^2 pixels, camera at distance 1.6 tilted 30, 60 or
 // 80 degrees from the normal, S = 0.1, maps at 256^2 (16-bit depth): the built-in patterns, and `walls`
 // (1-texel-wide walls at d = 0 every 16 texels over a floor at d = 1). Techniques: relief 32 + 8 and
-// 64 + 8 (the paper's search, adaptive step count), parallax (one fetch), maxmip (exact traversal).
+// 64 + 8 (the paper's search, adaptive step count), parallax (one fetch), maxmip (exact traversal), cone
+// (exact cone stepping).
 // Fetches: of the view ray's intersection only (no shadow ray, no shading fetch), counted on the CPU by
 // running each shader's loop on the same rays: relief_search.glsl's reliefIntersect, maxmip.glsl's
-// maxMipIntersect (one fetch per node read, one textureGather per cell solved). Errors: the GL renderer's
+// maxMipIntersect (one fetch per node read, one textureGather per cell solved), cone.glsl's coneIntersect
+// (one fetch per cell visited, one textureGather per cell solved). Errors: the GL renderer's
 // uv and depth outputs against renderQuadReference: hit/miss disagreement, and uv error in texels over the
 // pixels where both hit, split by the sign of (d - d_exact) along the ray: overshoot (the technique stopped
 // beyond the exact hit: it skipped a feature) and undershoot (it stopped short).
@@ -20,6 +22,7 @@
 #include "strata/gl/context.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
+#include "strata/relief/cone_map.h"
 #include "strata/relief/max_mip.h"
 #include "strata/relief/patterns.h"
 #include "strata/relief/relief_texture.h"
@@ -35,6 +38,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -115,6 +119,21 @@ struct MaxMip {
     }
 };
 
+// The patch of cell `node` crosses the ray in [d, dExit] (sampled finely enough to decide whether it does;
+// the fetch count does not depend on where).
+bool cellHit(const MaxMip& mip, glm::dvec2 node, glm::dvec2 c0, glm::dvec2 cd, double d, double dExit) {
+    const double a = mip.texel(node.x, node.y), b = mip.texel(node.x + 1, node.y);
+    const double e = mip.texel(node.x, node.y + 1), f = mip.texel(node.x + 1, node.y + 1);
+    for (int i = 0; i <= 64; ++i) {
+        const double t = d + (dExit - d) * i / 64.0;
+        const glm::dvec2 p = c0 + cd * t - node;
+        const double depth =
+            a * (1 - p.x) * (1 - p.y) + b * p.x * (1 - p.y) + e * (1 - p.x) * p.y + f * p.x * p.y;
+        if (depth <= t) return true;
+    }
+    return false;
+}
+
 // maxMipIntersect's loop (maxmip.glsl) in double, in its cell coordinates; returns the fetches it makes.
 int maxMipFetches(const MaxMip& mip, glm::dvec2 c0, glm::dvec2 cd) {
     const int top = static_cast<int>(mip.levels.size()) - 1;
@@ -138,19 +157,7 @@ int maxMipFetches(const MaxMip& mip, glm::dvec2 c0, glm::dvec2 cd) {
         }
         ++fetches;
         if (level == 0) {
-            // The cell's bilinear patch: the first crossing of D - d in [d, dExit] (sampled finely enough to
-            // decide whether there is one; the count does not depend on where).
-            bool hit = false;
-            const double a = mip.texel(node.x, node.y), b = mip.texel(node.x + 1, node.y);
-            const double e = mip.texel(node.x, node.y + 1), f = mip.texel(node.x + 1, node.y + 1);
-            for (int i = 0; i <= 64 && !hit; ++i) {
-                const double t = d + (dExit - d) * i / 64.0;
-                const glm::dvec2 p = c0 + cd * t - node;
-                const double depth =
-                    a * (1 - p.x) * (1 - p.y) + b * p.x * (1 - p.y) + e * (1 - p.x) * p.y + f * p.x * p.y;
-                hit = depth <= t;
-            }
-            if (hit || dExit >= 1.0) return fetches;
+            if (cellHit(mip, node, c0, cd, d, dExit) || dExit >= 1.0) return fetches;
             d = dExit;
             level = std::min(level + 1, top);
             continue;
@@ -168,6 +175,56 @@ int maxMipFetches(const MaxMip& mip, glm::dvec2 c0, glm::dvec2 cd) {
     return fetches;
 }
 
+// The cone map as cone.glsl reads it: per cell, the ratio after 16-bit quantisation (rounded down).
+struct ConeCells {
+    Image ratio;
+    explicit ConeCells(const Image& depth) : ratio(coneMap(depth)) {
+        const float cap = coneMapMaxRatio(depth, {});
+        for (float& r : ratio.pixels()) r = decodeConeRatio(encodeConeRatio(r, cap), cap);
+    }
+};
+
+// coneIntersect's loop (cone.glsl) in double, in its cell coordinates; returns the fetches it makes (one
+// texelFetch of the cone map per cell visited, one textureGather per cell solved).
+int coneFetches(const MaxMip& mip, const ConeCells& cone, glm::dvec2 c0, glm::dvec2 cd) {
+    const double travel = glm::length(cd);
+    int fetches = 0;
+    double d = 0.0;
+    for (int iteration = 0; iteration < 2048; ++iteration) {
+        const glm::dvec2 c = c0 + cd * d;
+        glm::dvec2 cell;
+        double dExit = 1.0;
+        for (int a = 0; a < 2; ++a) {
+            const double nudge = (cd[a] > 0   ? 1.0
+                                  : cd[a] < 0 ? -1.0
+                                              : 0.0) *
+                                 std::max(1e-4, std::abs(c[a]) * 5e-7);
+            cell[a] = std::floor(c[a] + nudge);
+            if (std::abs(cd[a]) > 1e-20)
+                dExit = std::min(dExit, ((cell[a] + (cd[a] >= 0 ? 1 : 0)) - c0[a]) / cd[a]);
+        }
+        ++fetches;
+        const double highest = std::min({mip.texel(cell.x, cell.y), mip.texel(cell.x + 1, cell.y),
+                                         mip.texel(cell.x, cell.y + 1), mip.texel(cell.x + 1, cell.y + 1)});
+        const double ratio = cone.ratio.at(MaxMip::wrap(cell.x, cone.ratio.width()),
+                                           MaxMip::wrap(cell.y, cone.ratio.height()));
+        if (d < highest) {
+            d += ratio * (highest - d) / (ratio + travel);
+            if (d >= 1.0) return fetches;
+            if (d >= dExit) continue;
+        }
+        ++fetches;
+        if (cellHit(mip, cell, c0, cd, d, dExit) || dExit >= 1.0) return fetches;
+        const glm::dvec2 p = glm::clamp(c0 + cd * dExit - cell, 0.0, 1.0);
+        const double apex = mip.texel(cell.x, cell.y) * (1 - p.x) * (1 - p.y) +
+                            mip.texel(cell.x + 1, cell.y) * p.x * (1 - p.y) +
+                            mip.texel(cell.x, cell.y + 1) * (1 - p.x) * p.y +
+                            mip.texel(cell.x + 1, cell.y + 1) * p.x * p.y;
+        d = std::max(dExit, dExit + ratio * (apex - dExit) / (ratio + travel));
+    }
+    return fetches;
+}
+
 const std::vector<std::string>& maps() {
     static const std::vector<std::string> names = [] {
         std::vector<std::string> list;
@@ -178,8 +235,8 @@ const std::vector<std::string>& maps() {
     return names;
 }
 
-// Args: technique (0 relief 32+8, 1 relief 64+8, 2 parallax, 3 maxmip), angle, map set (0 = the patterns,
-// 1 = walls).
+// Args: technique (0 relief 32+8, 1 relief 64+8, 2 parallax, 3 maxmip, 4 cone), angle, map set (0 = the
+// patterns, 1 = walls).
 void BM_Technique(benchmark::State& state) {
     Context& c = context();
     if (!c.failure.empty()) {
@@ -199,12 +256,15 @@ void BM_Technique(benchmark::State& state) {
             const ReliefTexture texture = makeMap(name);
             const HeightFieldTracer tracer(texture.depth, kDepthScale);
             const MaxMip mip(texture.depth);
+            const std::optional<ConeCells> cone =
+                which == 4 ? std::optional<ConeCells>(std::in_place, texture.depth) : std::nullopt;
             const gl::GpuMaterial material = gl::uploadMaterial(texture, kDepthScale);
             gl::RenderRequest request;
             request.objects.push_back({&c.quad, glm::dmat4(1.0), &material, glm::dvec3(0.8)});
             request.camera = cam;
             request.relief.technique = which == 2   ? Technique::Parallax
                                        : which == 3 ? Technique::MaxMip
+                                       : which == 4 ? Technique::Cone
                                                     : Technique::Relief;
             request.relief.linearSteps = which == 0 ? 32 : 64;
             request.relief.binarySteps = 8;
@@ -239,11 +299,13 @@ void BM_Technique(benchmark::State& state) {
                     const double t = -cam.eye.z / dir.z;
                     const glm::dvec2 entry(cam.eye.x + t * dir.x, cam.eye.y + t * dir.y);
                     const glm::dvec2 ds = glm::dvec2(dir.x, dir.y) * kDepthScale / -dir.z;
+                    // Cell coordinates, as the shaders: c = uv * size - 0.5.
+                    const glm::dvec2 c0 = entry * double(kMapSize) - 0.5;
+                    const glm::dvec2 cd = ds * double(kMapSize);
                     if (which == 3) {
-                        // Cell coordinates, as the shader: c = uv * size - 0.5.
-                        const glm::dvec2 c0 = entry * double(kMapSize) - 0.5;
-                        const glm::dvec2 cd = ds * double(kMapSize);
                         fetches.push_back(maxMipFetches(mip, c0, cd));
+                    } else if (which == 4) {
+                        fetches.push_back(coneFetches(mip, *cone, c0, cd));
                     } else if (which == 2) {
                         fetches.push_back(1);
                     } else {
@@ -272,12 +334,12 @@ void BM_Technique(benchmark::State& state) {
         100.0 * static_cast<double>(under.size()) / static_cast<double>(std::max(both, 1L));
     state.counters["overP99"] = p99(over);
     state.counters["underP99"] = p99(under);
-    const char* names[] = {"relief 32+8", "relief 64+8", "parallax", "maxmip"};
+    const char* names[] = {"relief 32+8", "relief 64+8", "parallax", "maxmip", "cone"};
     state.SetLabel(std::string(names[which]) + ", " + std::to_string(static_cast<int>(angle)) + " deg, " +
                    (walls ? "walls" : "patterns"));
 }
 BENCHMARK(BM_Technique)
-    ->ArgsProduct({{0, 1, 2, 3}, {30, 60, 80}, {0, 1}})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {30, 60, 80}, {0, 1}})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 

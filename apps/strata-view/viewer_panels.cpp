@@ -129,18 +129,20 @@ void Viewer::scenePanel() {
 
     section("relief");
     ReliefSettings& relief = mScene.relief;
-    // maxmip needs the baked depth's maximum mipmap: not offered while the material is live.
-    static const char* const kTechniques[] = {"texture", "normal", "parallax", "relief", "maxmip"};
+    // maxmip and cone need the baked depth's maximum mipmap or cone map: not offered while the material is
+    // live. (The list follows the Technique enum; dual-depth textures are not the viewer's.)
+    static const char* const kTechniques[] = {"texture", "normal", "parallax", "relief", "maxmip", "cone"};
     const bool live = mScene.meta == MetaPath::Live;
     if (ImGui::BeginCombo("technique", kTechniques[static_cast<int>(relief.technique)])) {
         for (int t = 0; t < static_cast<int>(std::size(kTechniques)); ++t) {
             const bool selected = t == static_cast<int>(relief.technique);
-            const bool disabled = live && static_cast<Technique>(t) == Technique::MaxMip;
+            const bool disabled = live && (static_cast<Technique>(t) == Technique::MaxMip ||
+                                           static_cast<Technique>(t) == Technique::Cone);
             if (ImGui::Selectable(kTechniques[t], selected,
                                   disabled ? ImGuiSelectableFlags_Disabled : ImGuiSelectableFlags_None))
                 relief.technique = static_cast<Technique>(t);
             if (disabled && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-                ImGui::SetTooltip("maxmip needs a baked material (Material panel: live off)");
+                ImGui::SetTooltip("%s needs a baked material (Material panel: live off)", kTechniques[t]);
         }
         ImGui::EndCombo();
     }
@@ -245,9 +247,12 @@ void Viewer::materialPanel() {
     bool live = mScene.meta == MetaPath::Live;
     if (ImGui::Checkbox("live (per fragment)", &live)) {
         mScene.meta = live ? MetaPath::Live : MetaPath::Baked;
-        if (live && mScene.relief.technique == Technique::MaxMip) {
+        if (live &&
+            (mScene.relief.technique == Technique::MaxMip || mScene.relief.technique == Technique::Cone)) {
+            setStatus(std::string(toString(mScene.relief.technique)) +
+                          " needs a baked material: technique set to relief",
+                      false);
             mScene.relief.technique = Technique::Relief;
-            setStatus("maxmip needs a baked material: technique set to relief", false);
         }
     }
     if (ImGui::IsItemHovered())

@@ -72,8 +72,9 @@ void addSceneFlags(CLI::App& command, SceneFlags& f) {
         ->check(CLI::ExistingFile);
     command
         .add_option("--technique", f.technique,
-                    "texture, normal, parallax, relief, maxmip (exact) or dual-depth (a dual-depth texture)")
-        ->check(CLI::IsMember({"texture", "normal", "parallax", "relief", "maxmip", "dual-depth"}));
+                    "texture, normal, parallax, relief, maxmip (exact), cone (exact) or dual-depth (a "
+                    "dual-depth texture)")
+        ->check(CLI::IsMember({"texture", "normal", "parallax", "relief", "maxmip", "cone", "dual-depth"}));
     command
         .add_option("--linear-steps", f.linearSteps,
                     "Relief: linear search steps at normal incidence (paper: 10)")

@@ -5,7 +5,7 @@
 //
 // Variant flags (src/gl/program.cpp, variantDefines), one of each group:
 //   STRATA_PLAIN | STRATA_TECHNIQUE_TEXTURE | STRATA_TECHNIQUE_NORMAL | STRATA_TECHNIQUE_PARALLAX |
-//   STRATA_TECHNIQUE_RELIEF | STRATA_TECHNIQUE_MAXMIP | STRATA_TECHNIQUE_DUAL_DEPTH
+//   STRATA_TECHNIQUE_RELIEF | STRATA_TECHNIQUE_MAXMIP | STRATA_TECHNIQUE_CONE | STRATA_TECHNIQUE_DUAL_DEPTH
 //   STRATA_OUTPUT_SHADED | STRATA_OUTPUT_UV | STRATA_OUTPUT_SHADOW | STRATA_OUTPUT_DEPTH
 // and optionally STRATA_SHADOWS (the shaded and shadow outputs of every technique), STRATA_DEPTH_CORRECTION
 // (relief, parallax), STRATA_AO (ambient times the packed texture's AO) with STRATA_AO_PAPER (rescaled
@@ -17,8 +17,14 @@
 // (w.T / tileLength.x, w.B / tileLength.y, w.N / tileLength.z).
 
 #include "relief_search.glsl"
+// Before the technique files that use it: includes are pasted once, whatever #ifdef is around them, so
+// one pasted inside a disabled #ifdef would be missing from the others.
+#include "bilinear_cell.glsl"
 #ifdef STRATA_TECHNIQUE_MAXMIP
 #include "maxmip.glsl"
+#endif
+#ifdef STRATA_TECHNIQUE_CONE
+#include "cone.glsl"
 #endif
 #ifdef STRATA_TECHNIQUE_DUAL_DEPTH
 #include "dual_depth.glsl"
@@ -184,6 +190,14 @@ void main() {
     } else {
         hit = false;
     }
+#elif defined(STRATA_TECHNIQUE_CONE)
+    // Exact intersection (cone.glsl): no steps, no search window.
+    if (entering) {
+        hitDepth = coneIntersect(tile, s.xy * uDepthScale / s.z);
+        hitUv = tile + s.xy * uDepthScale / s.z * hitDepth;
+    } else {
+        hit = false;
+    }
 #elif defined(STRATA_TECHNIQUE_DUAL_DEPTH)
     // An impostor (dual_depth.glsl): rays that pass the object show what is behind the quad.
     if (entering) {
@@ -233,7 +247,7 @@ void main() {
     bool lit = dot(toLightWorld, N) > 0.0;
 #ifdef STRATA_SHADOWS
     // Sec. 3.1 and appendix RM_SHADOWS: the light ray through a point of the relief, searched from the top
-    // down to it. Relief mapping (and maxmip, dual-depth) tests its hit. Parallax, normal and texture mapping
+    // down to it. Relief mapping (and maxmip, cone, dual-depth) tests its hit. Parallax, normal and texture mapping
     // find no point on the relief, so they test the relief point under the coordinates they shade,
     // (uv, d(uv)): the offset uv for parallax, the fragment's own for the other two. That point lies on the
     // surface (no search window).
@@ -254,12 +268,16 @@ void main() {
         float cosLight = dot(normalize(toLight), N);
         int lightSteps = clamp(reliefLinearSteps(uLinearSteps, cosLight), 1, 4 * uLinearSteps);
         lit = dualLit(shadowUv, shadowDepth, shadowBracket, toLightTile, uDepthScale, lightSteps);
-#elif defined(STRATA_TECHNIQUE_MAXMIP)
+#elif defined(STRATA_TECHNIQUE_MAXMIP) || defined(STRATA_TECHNIQUE_CONE)
         // Exact: the light ray's first intersection from the top, by the same traversal; lit when that is
         // the point itself (within the bias of relief_search.glsl).
         if (toLightTile.z > 0.0) {
             vec2 up = toLightTile.xy * uDepthScale / toLightTile.z;
+#ifdef STRATA_TECHNIQUE_CONE
+            float first = coneIntersect(shadowUv + up * shadowDepth, -up);
+#else
             float first = maxMipIntersect(shadowUv + up * shadowDepth, -up);
+#endif
             lit = first >= shadowDepth - kShadowBias;
         } else {
             lit = false;

@@ -39,6 +39,11 @@ layout(binding = 3) uniform sampler2D uLayers[kMaxLayers];
 uniform int uLayerCount;
 uniform float uLayerTiling[kMaxLayers];
 uniform float uLayerDepthWeight[kMaxLayers];  // w_d,i / W
+// The renderer binds the layers in the searches' order (largest weighted depth range first; Eq. 1 and 2
+// do not depend on the order), and gives for each layer i the bounds of what the layers after it can add
+// to Eq. 2: the sums of (w_d,j / W) min d_j and (w_d,j / W) max d_j over j > i (reliefBelow).
+uniform float uLayerRestLow[kMaxLayers];
+uniform float uLayerRestHigh[kMaxLayers];
 
 // Each layer's mip level for the fragment, set once in uniform control flow (layerLods): the searches read
 // every layer at every step, and an explicit level spares each fetch the derivative-to-level computation.
@@ -80,6 +85,28 @@ float reliefDepth(vec2 uv) {
 #endif
 }
 
+// Whether the ray's point at depth `depth` over uv lies below the relief: depth >= d(uv), or depth > d(uv)
+// when `strict`. The searches ask only this, so a live meta-relief stops reading layers once the answer is
+// certain: after the layers read so far (partial sum P of Eq. 2) the rest adds between uLayerRestLow and
+// uLayerRestHigh (every mip level of a layer stays within its map's range), so depth < P + low means above
+// and depth >= P + high below. Most search steps are far above the surface and read only the first layer;
+// the answer is the one the full sum gives (up to the float rounding of the sum's order).
+bool reliefBelow(vec2 uv, float depth, bool strict) {
+#ifdef STRATA_META_LIVE
+    float partial = 0.0;
+    for (int i = 0; i < kMaxLayers; ++i) {
+        if (i >= uLayerCount) break;
+        if (uLayerDepthWeight[i] > 0.0) partial += uLayerDepthWeight[i] * layerSample(i, uv).a;
+        if (depth < partial + uLayerRestLow[i]) return false;
+        if (depth > partial + uLayerRestHigh[i]) return true;
+    }
+    return strict ? depth > partial : depth >= partial;
+#else
+    float d = reliefSample(uv).a;
+    return strict ? depth > d : depth >= d;
+#endif
+}
+
 // Appendix, ray_intersect_rm: the depth t in [0, 1] of the first intersection of the ray (dp, ds) with
 // the height field. `linearSteps` (>= 1) is the loop bound of the linear search (the appendix's constant
 // linear_search_steps, here reliefLinearSteps(N, cos theta) per fragment), `binarySteps` that of the
@@ -106,7 +133,7 @@ float reliefIntersect(vec2 dp, vec2 ds, int linearSteps, int binarySteps) {
     float bestDepth = 1.0;                  // best match found (starts with the last position, 1.0)
     for (int i = 0; i < linearSteps - 1; ++i) {
         depth += size;
-        if (depth >= reliefDepth(dp + ds * depth)) {
+        if (reliefBelow(dp + ds * depth, depth, false)) {
             bestDepth = depth;
             break;
         }
@@ -114,7 +141,7 @@ float reliefIntersect(vec2 dp, vec2 ds, int linearSteps, int binarySteps) {
     depth = bestDepth;
     for (int i = 0; i < binarySteps; ++i) {
         size *= 0.5;
-        if (depth >= reliefDepth(dp + ds * depth)) {
+        if (reliefBelow(dp + ds * depth, depth, false)) {
             bestDepth = depth;
             depth -= 2.0 * size;
         }
@@ -156,7 +183,7 @@ bool reliefLit(vec2 hitUv, float hitDepth, float bracket, vec3 toLight, float de
     for (int i = 1; i <= linearSteps; ++i) {
         float depth = size * float(i);
         // Strictly inside: a light ray that only touches the surface (e.g. along a flat top) is not blocked.
-        if (depth > reliefDepth(entry - up * depth)) return false;
+        if (reliefBelow(entry - up * depth, depth, true)) return false;
     }
     return true;
 }

@@ -278,9 +278,10 @@ ProgramVariant canonical(ProgramVariant variant) {
         variant.live = false;
         return variant;
     }
-    const bool displaced =
-        variant.technique == Technique::Relief || variant.technique == Technique::Parallax ||
-        variant.technique == Technique::MaxMip || variant.technique == Technique::DualDepth;
+    const bool displaced = variant.technique == Technique::Relief ||
+                           variant.technique == Technique::Parallax ||
+                           variant.technique == Technique::MaxMip || variant.technique == Technique::Cone ||
+                           variant.technique == Technique::DualDepth;
     if (variant.output != RenderOutput::Shaded && variant.output != RenderOutput::Shadow)
         variant.shadows = false;
     if (!displaced) variant.depthCorrection = false;
@@ -292,8 +293,9 @@ ProgramVariant canonical(ProgramVariant variant) {
     const bool readsRelief =
         displaced || variant.shadows ||
         (variant.technique == Technique::Normal && variant.output == RenderOutput::Shaded);
-    // The maximum mipmap is built from one baked depth texture (uploadMaterial).
-    if (!readsRelief || variant.technique == Technique::MaxMip || variant.technique == Technique::DualDepth)
+    // The maximum mipmap and the cone map are built from one baked depth texture (uploadMaterial).
+    if (!readsRelief || variant.technique == Technique::MaxMip || variant.technique == Technique::Cone ||
+        variant.technique == Technique::DualDepth)
         variant.live = false;
     return variant;
 }
@@ -354,6 +356,9 @@ std::vector<std::string> variantDefines(const ProgramVariant& variant) {
                 break;
             case Technique::MaxMip:
                 defines.emplace_back("STRATA_TECHNIQUE_MAXMIP");
+                break;
+            case Technique::Cone:
+                defines.emplace_back("STRATA_TECHNIQUE_CONE");
                 break;
             case Technique::DualDepth:
                 defines.emplace_back("STRATA_TECHNIQUE_DUAL_DEPTH");

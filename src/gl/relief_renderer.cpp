@@ -5,6 +5,7 @@
 #include "strata/gl/gl_error.h"
 #include "strata/gl/program.h"
 #include "strata/occlusion/ambient_occlusion.h"
+#include "strata/relief/cone_map.h"
 #include "strata/relief/max_mip.h"
 #include "strata/relief/texture_set.h"
 
@@ -236,11 +237,13 @@ void GpuMaterial::release() {
     if (mColor != 0) glDeleteTextures(1, &mColor);
     if (mComposedAo != 0) glDeleteTextures(1, &mComposedAo);
     if (mMaxMip != 0) glDeleteTextures(1, &mMaxMip);
+    if (mCone != 0) glDeleteTextures(1, &mCone);
     for (const GpuLayer& layer : mLayers) {
         glDeleteTextures(1, &layer.texture);
         if (layer.color != 0) glDeleteTextures(1, &layer.color);
     }
-    mRelief = mColor = mComposedAo = mMaxMip = 0;
+    mRelief = mColor = mComposedAo = mMaxMip = mCone = 0;
+    mConeDepth = Image();
     mLayers.clear();
 }
 
@@ -260,6 +263,9 @@ GpuMaterial& GpuMaterial::operator=(GpuMaterial&& other) noexcept {
         mComposedAo = std::exchange(other.mComposedAo, 0);
         mMaxMip = std::exchange(other.mMaxMip, 0);
         mMaxMipLevels = other.mMaxMipLevels;
+        mConeDepth = std::exchange(other.mConeDepth, Image());
+        mCone = std::exchange(other.mCone, 0);
+        mConeMaxRatio = other.mConeMaxRatio;
         mDualDepth = other.mDualDepth;
         mLayers = std::exchange(other.mLayers, {});
         mNormalMode = other.mNormalMode;
@@ -324,6 +330,45 @@ GLuint makeMaxMip(const Image& depth, int* levelCount) {
     return texture;
 }
 
+// The depth as the packed texture holds it (16-bit unorm), so that the cone map describes the very
+// height field the shader intersects.
+Image uploadedDepth(const Image& depth) {
+    Image result = depth;
+    for (float& d : result.pixels()) d = static_cast<float>(toUnorm16(d)) / 65535.0f;
+    return result;
+}
+
+// The cone map texture (cone.glsl): RG16 per cell in max_mip.h's frame (row y is image row H - 1 - y;
+// cell (i, j) spans texels i..i+1, j..j+1, wrapping): R the cell's highest point (the smallest of its
+// four corners, the same 16-bit value the shader's textureGather reads), G sqrt(ratio / maxRatio) rounded
+// down (encodeConeRatio).
+GLuint makeConeMap(const Image& depth, double* maxRatio) {
+    const ConeMapOptions options;
+    const Image ratios = coneMap(depth, options);
+    const float cap = coneMapMaxRatio(depth, options);
+    const int width = depth.width(), height = depth.height();
+    const auto texel = [&](int x, int y) { return depth.at(x % width, height - 1 - (y % height)); };
+    std::vector<std::uint16_t> texels(static_cast<std::size_t>(width) * height * 2);
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const float highest =
+                std::min({texel(x, y), texel(x + 1, y), texel(x, y + 1), texel(x + 1, y + 1)});
+            const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 2;
+            texels[i] = toUnorm16(highest);
+            texels[i + 1] = encodeConeRatio(ratios.at(x, y), cap);
+        }
+    }
+    GLuint texture = 0;
+    glCreateTextures(GL_TEXTURE_2D, 1, &texture);
+    glTextureStorage2D(texture, 1, GL_RG16, width, height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(texture, 0, 0, 0, width, height, GL_RG, GL_UNSIGNED_SHORT, texels.data());
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    *maxRatio = cap;
+    return texture;
+}
+
 }  // namespace
 
 GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale) {
@@ -359,6 +404,8 @@ GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale) {
     if (isPowerOfTwo(result.mWidth) && isPowerOfTwo(result.mHeight))
         result.mMaxMip = makeMaxMip(texture.depth, &result.mMaxMipLevels);
 
+    result.mConeDepth = uploadedDepth(texture.depth);
+
     const Image& color = texture.color;
     result.mColor = makeColorTexture(color);
     result.mDepthScale = texture.depthScale;
@@ -367,6 +414,14 @@ GpuMaterial uploadMaterial(const ReliefTexture& texture, double aoDepthScale) {
     result.mHasColor = !color.empty();
     checkGl("uploadMaterial");
     return result;
+}
+
+unsigned GpuMaterial::coneTexture() const {
+    if (mCone == 0 && !mConeDepth.empty()) {
+        mCone = makeConeMap(mConeDepth, &mConeMaxRatio);
+        checkGl("cone map");
+    }
+    return mCone;
 }
 
 namespace {
@@ -482,6 +537,10 @@ GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const C
         gpu.weightNormal = layer.weightNormal;
         gpu.width = layer.texture.depth.width();
         gpu.height = layer.texture.depth.height();
+        const auto [lowest, highest] =
+            std::minmax_element(layer.texture.depth.pixels().begin(), layer.texture.depth.pixels().end());
+        gpu.depthMin = toUnorm16(*lowest) / 65535.0;
+        gpu.depthMax = toUnorm16(*highest) / 65535.0;
         result.mLayers.push_back(gpu);
     }
     result.mColor = compose.colorFrom >= 0 ? 0 : makeColorTexture(Image());
@@ -739,6 +798,10 @@ void validateRequest(const RenderRequest& request) {
                     (dualTechnique ? ": technique dual-depth needs a dual-depth texture (strata dual-depth)"
                                    : ": a dual-depth texture draws only with technique dual-depth"));
         }
+        if (request.relief.technique == Technique::Cone && material != nullptr && material->isLive()) {
+            throw Error(ErrorKind::InvalidInput, "render request: object " + std::to_string(i) +
+                                                     ": cone needs a baked material (--meta baked)");
+        }
         if (request.relief.technique == Technique::MaxMip && material != nullptr) {
             if (material->isLive()) {
                 throw Error(ErrorKind::InvalidInput, "render request: object " + std::to_string(i) +
@@ -790,23 +853,52 @@ std::pair<double, double> clipPlanes(const RenderRequest& request) {
     return {nearPlane, farPlane};
 }
 
+// The order the shader sees a live material's layers in: the layer that can move Eq. 2's sum most first
+// (largest w_d,i (max d_i - min d_i)), so that the searches' first read most often settles whether a point
+// is above the relief (relief_search.glsl, reliefBelow). The sums do not depend on the order, and the shader
+// indexes its sampler array with constants only (a dynamic index is much slower on llvmpipe).
+std::vector<std::size_t> shaderLayerOrder(const std::vector<GpuLayer>& layers) {
+    std::vector<std::size_t> order(layers.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    const auto range = [&](std::size_t i) {
+        return layers[i].weightDepth * (layers[i].depthMax - layers[i].depthMin);
+    };
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return range(a) > range(b); });
+    return order;
+}
+
 }  // namespace
 
-// The live meta-relief's uniforms (relief_search.glsl, relief.frag.glsl metaShade): weights normalised as
-// Eq. 1 and 2 do, and each layer's AO rescale S_i now / S_i baked, S_i = S (w_d,i / W) t_i.
+// The live meta-relief's uniforms (relief_search.glsl, relief.frag.glsl metaShade), per layer in
+// shaderLayerOrder: weights normalised as Eq. 1 and 2 do, each layer's AO rescale S_i now / S_i baked,
+// S_i = S (w_d,i / W) t_i, and the bounds on what the later layers add to Eq. 2 (with 1e-6 of slack for the
+// float rounding of the shader's sums).
 void ReliefRenderer::Impl::setLiveUniforms(const Program& program, const GpuMaterial& material,
                                            double depthScale, const ReliefSettings& relief) {
     const GLuint id = program.id();
     const auto location = [&](const char* name) { return program.uniformLocation(name); };
     const std::vector<GpuLayer>& layers = material.layers();
+    const std::vector<std::size_t> order = shaderLayerOrder(layers);
     double sumDepth = 0.0, sumNormal = 0.0;
     for (const GpuLayer& layer : layers) {
         sumDepth += layer.weightDepth;
         sumNormal += layer.weightNormal;
     }
     std::array<float, kMaxLiveLayers> tiling{}, depthWeight{}, normalWeight{}, aoScale{}, normalScale{};
+    std::array<float, kMaxLiveLayers> restLow{}, restHigh{};
+    double low = 0.0, high = 0.0;
+    for (std::size_t i = layers.size(); i-- > 0;) {
+        restLow[i] = static_cast<float>(low - 1e-6);
+        restHigh[i] = static_cast<float>(high + 1e-6);
+        const GpuLayer& layer = layers[order[i]];
+        low += layer.weightDepth / sumDepth * layer.depthMin;
+        high += layer.weightDepth / sumDepth * layer.depthMax;
+    }
+    glProgramUniform1fv(id, location("uLayerRestLow"), kMaxLiveLayers, restLow.data());
+    glProgramUniform1fv(id, location("uLayerRestHigh"), kMaxLiveLayers, restHigh.data());
     for (std::size_t i = 0; i < layers.size(); ++i) {
-        const GpuLayer& layer = layers[i];
+        const GpuLayer& layer = layers[order[i]];
         tiling[i] = static_cast<float>(layer.tiling);
         normalScale[i] = static_cast<float>(layer.normalScale);
         depthWeight[i] = static_cast<float>(layer.weightDepth / sumDepth);
@@ -921,10 +1013,11 @@ void ReliefRenderer::Impl::drawScene(const RenderRequest& request, int width, in
             }
             // Searches and shading read the layers through one sampler (trilinear, or the base level for the
             // debug outputs): a second set of units with anisotropic filtering would need 16 more.
+            const std::vector<std::size_t> order = shaderLayerOrder(layers);
             for (int unit = 0; unit < kMaxLiveLayers; ++unit) {
                 const bool used = unit < static_cast<int>(layers.size());
                 glBindTextureUnit(3 + unit,
-                                  used ? layers[static_cast<std::size_t>(unit)].texture : flatRelief);
+                                  used ? layers[order[static_cast<std::size_t>(unit)]].texture : flatRelief);
                 glBindSampler(3 + unit, sampler);
             }
             glBindTextureUnit(
@@ -937,6 +1030,10 @@ void ReliefRenderer::Impl::drawScene(const RenderRequest& request, int width, in
         if (material != nullptr && relief.technique == Technique::MaxMip) {
             glBindTextureUnit(12, material->maxMipTexture());
             glProgramUniform1i(id, location("uMaxMipLevels"), material->maxMipLevels());
+        }
+        if (material != nullptr && relief.technique == Technique::Cone) {
+            glBindTextureUnit(13, material->coneTexture());
+            glProgramUniform1f(id, location("uConeMaxRatio"), static_cast<float>(material->coneMaxRatio()));
         }
         glBindSampler(0, sampler);
         // A mirroring model turns counter-clockwise triangles clockwise on screen.

@@ -19,6 +19,8 @@ const char* toString(Technique technique) {
             return "relief";
         case Technique::MaxMip:
             return "maxmip";
+        case Technique::Cone:
+            return "cone";
         case Technique::DualDepth:
             return "dual-depth";
     }
@@ -57,7 +59,7 @@ Technique parseTechnique(const std::string& text) {
     }
     throw Error(ErrorKind::InvalidInput,
                 "unknown technique '" + text +
-                    "' (expected texture, normal, parallax, relief, maxmip or dual-depth)");
+                    "' (expected texture, normal, parallax, relief, maxmip, cone or dual-depth)");
 }
 
 RenderOutput parseRenderOutput(const std::string& text) {

@@ -124,7 +124,8 @@ TEST_F(LiveMetaGl, AgreesWithTheBakedCompositionOnIntegerTilings) {
 }
 
 // Changing a weight (setLayer) changes the live render to the baked composition of the new weights, with
-// nothing re-uploaded.
+// nothing re-uploaded. The new weights also reorder the layers the shader sees (the largest weighted depth
+// range first, a zero weight last: relief_renderer.cpp, shaderLayerOrder), which must not change the sum.
 TEST_F(LiveMetaGl, SetLayerFollowsTheNewWeights) {
     std::vector<CompositionLayer> layers = alignedLayers();
     const ComposeParams params = composeParams(NormalMode::Consistent);

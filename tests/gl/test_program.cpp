@@ -79,9 +79,10 @@ TEST(ProgramVariants, AreDistinctAndCanonical) {
     // depth 6 each (texture, normal, and parallax and relief x depth correction); shadow 12 (the same 6 x
     // shadows); plain 4 (one per output): 60. Live doubles every variant that reads the relief (a search,
     // the shadow test, or normal mapping's shaded normal): 1 + 6 + 12 + 12 shaded, 2 + 2 uv and depth,
-    // 1 + 1 + 4 + 4 shadow: 49 more. maxmip (baked only) as relief: 12 shaded, 2 + 2 uv and depth, 4 shadow.
-    // dual-depth (no AO, not live): 4 shaded (depth correction x shadows), 2 + 2 uv and depth, 4 shadow.
-    EXPECT_EQ(variants.size(), 141u);
+    // 1 + 1 + 4 + 4 shadow: 49 more. maxmip and cone (baked only) as relief: 12 shaded, 2 + 2 uv and depth,
+    // 4 shadow, 20 each. dual-depth (no AO, not live): 4 shaded (depth correction x shadows), 2 + 2 uv and
+    // depth, 4 shadow.
+    EXPECT_EQ(variants.size(), 161u);
     std::set<std::string> names;
     for (const ProgramVariant& variant : variants) {
         EXPECT_EQ(canonical(variant), variant);
@@ -132,7 +133,7 @@ TEST(ProgramVariants, PassGlslangValidator) {
     const std::filesystem::path log = dir / "glslang.log";
     const int status = std::system((command + " > '" + log.string() + "' 2>&1").c_str());
     const std::string failures = status == 0 ? std::string() : readTextFile(log);
-    EXPECT_EQ(checked, 282);
+    EXPECT_EQ(checked, 322);
     EXPECT_TRUE(failures.empty()) << failures;
 }
 

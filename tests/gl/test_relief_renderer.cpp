@@ -144,10 +144,11 @@ ReliefTexture wallMap(int size) {
     return texture;
 }
 
-// maxmip is exact: on every pattern and the wall map, at 5, 45 and 75 degrees, its uv output is the exact
-// reference's to the bounds (hit/miss <= 0.2 %, p99 <= 0.25 texel), with no step count; its
-// shadows (the same traversal along the light ray) agree on >= 99 % of the pixels.
-TEST_F(RendererGl, MaxMipIsExact) {
+// An exact technique (maxmip, cone) on every pattern and the wall map, at 5, 45 and 75 degrees: its uv
+// output is the exact reference's to the bounds (hit/miss <= 0.2 %, p99 <= 0.25 texel), with no
+// step count; its shadows (the same traversal along the light ray) agree on >= 99 % of the pixels.
+// `extraMaps`: more maps for a technique that takes sizes maxmip does not.
+void expectExact(Technique technique, std::vector<std::pair<std::string, ReliefTexture>> extraMaps = {}) {
     ReliefRenderer renderer;
     const GpuMesh quad = uploadMesh(makeBuiltinMesh("quad"));
     const glm::dvec3 light(1.5, 0.0, 1.5);
@@ -167,6 +168,8 @@ TEST_F(RendererGl, MaxMipIsExact) {
         half.depthScale = kDepthScale;
         maps.emplace_back("bricks-256x128", std::move(half));
     }
+    for (auto& map : extraMaps) maps.push_back(std::move(map));
+    std::printf("%s\n", toString(technique));
     std::printf("%-13s %5s %10s %8s %8s %8s\n", "map", "angle", "mismatch%", "p50", "p99", "shadow%");
     for (const auto& [name, texture] : maps) {
         const GpuMaterial material = uploadMaterial(texture, kDepthScale);
@@ -176,7 +179,7 @@ TEST_F(RendererGl, MaxMipIsExact) {
             const QuadReferenceImages reference =
                 renderQuadReference(tracer, camera, kPicture, kPicture, {light, std::nullopt});
             RenderRequest request = quadRequest(quad, material, camera, RenderOutput::Uv);
-            request.relief.technique = Technique::MaxMip;
+            request.relief.technique = technique;
             const Image uv = renderer.render(request);
             request.picture.output = RenderOutput::Shadow;
             const Image shadow = renderer.render(request);
@@ -190,11 +193,52 @@ TEST_F(RendererGl, MaxMipIsExact) {
             EXPECT_LE(uvResult.p99, 0.25) << name << " at " << angle;
             EXPECT_GE(shadowResult.fraction, 0.99) << name << " at " << angle;
             if (uvResult.p99 > 0.25 || shadowResult.fraction < 0.99) {
-                const std::string stem = "maxmip_" + name + "_" + std::to_string(static_cast<int>(angle));
+                const std::string stem = std::string(toString(technique)) + "_" + name + "_" +
+                                         std::to_string(static_cast<int>(angle));
                 writeComparisonImages(test::failureDirectory("quad_reference"), stem + "_uv", reference.uv,
                                       uv, uvDiffImage(reference.uv, uv, w, h));
             }
         }
+    }
+}
+
+TEST_F(RendererGl, MaxMipIsExact) {
+    expectExact(Technique::MaxMip);
+}
+
+// Cone stepping needs no power-of-two sides: a 200x120 cut of stone-bricks besides the maps above.
+TEST_F(RendererGl, ConeIsExact) {
+    const ReliefTexture full = quantisedPattern("stone-bricks", kPatternSize);
+    ReliefTexture cut;
+    cut.depth = Image(200, 120, 1);
+    for (int y = 0; y < 120; ++y)
+        for (int x = 0; x < 200; ++x) cut.depth.at(x, y) = full.depth.at(x, y);
+    cut.normal = normalsFromDepth(cut.depth, kDepthScale);
+    cut.depthScale = kDepthScale;
+    std::vector<std::pair<std::string, ReliefTexture>> extra;
+    extra.emplace_back("bricks-200x120", std::move(cut));
+    expectExact(Technique::Cone, std::move(extra));
+}
+
+// A live material has no single depth map to make a cone map of: cone refuses it with the reason.
+TEST_F(RendererGl, ConeRefusesLiveMaterials) {
+    std::vector<CompositionLayer> layers(1);
+    layers[0].texture = quantisedPattern("stone-bricks", 64);
+    ComposeParams compose;
+    compose.depthScale = kDepthScale;
+    const GpuMaterial material = uploadLiveMaterial(layers, compose, std::nullopt, AoParams{});
+    EXPECT_EQ(material.coneTexture(), 0u);
+    ReliefRenderer renderer;
+    const GpuMesh quad = uploadMesh(makeBuiltinMesh("quad"));
+    RenderRequest request = quadRequest(quad, material, quadCamera(45.0), RenderOutput::Uv);
+    request.relief.technique = Technique::Cone;
+    try {
+        renderer.render(request);
+        ADD_FAILURE() << "a live material rendered with cone";
+    } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::InvalidInput);
+        EXPECT_NE(std::string(error.what()).find("cone needs a baked material"), std::string::npos)
+            << error.what();
     }
 }
 

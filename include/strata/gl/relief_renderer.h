@@ -78,6 +78,8 @@ struct GpuLayer {
     double weightNormal = 1.0;  // w_n,i (not normalised)
     double aoDepthScale = 0.0;  // S_i its AO was baked at; 0 = no AO (texture B = 1)
     double normalScale = 1.0;   // consistent normals: the S_L its normals were derived from depth at
+    double depthMin = 0.0;      // the range of its depth as uploaded (every mip level stays within it)
+    double depthMax = 1.0;
     int width = 0;
     int height = 0;
 };
@@ -119,6 +121,13 @@ public:
     // Technique::DualDepth draws it.
     bool isDualDepth() const { return mDualDepth; }
     int maxMipLevels() const { return mMaxMipLevels; }
+    // The cone map of the depth (Technique::Cone; strata/relief/cone_map.h and shaders/relief/cone.glsl):
+    // RG16 per cell, (the cell's highest point, sqrt(ratio / coneMaxRatio())), the ratio rounded down. Made
+    // from the depth exactly as uploaded (16-bit) on the first call, with the GL context current: the
+    // generator's cost (docs/renderer.md) is paid only by materials drawn with cone. 0 for a live or a
+    // dual-depth material.
+    unsigned coneTexture() const;
+    double coneMaxRatio() const { return mConeMaxRatio; }
 
     double depthScale() const { return mDepthScale; }      // S the normal map is valid for
     double aoDepthScale() const { return mAoDepthScale; }  // S the AO channel is valid for
@@ -144,6 +153,9 @@ private:
     int mColorLayer = -1;
     unsigned mComposedAo = 0;
     unsigned mMaxMip = 0;
+    Image mConeDepth;            // the uploaded depth (16-bit values), until coneTexture() is made
+    mutable unsigned mCone = 0;  // made on first use (coneTexture)
+    mutable double mConeMaxRatio = 0.0;
     bool mDualDepth = false;
     int mMaxMipLevels = 0;
     double mDepthScale = kDefaultDepthScale;

@@ -10,8 +10,10 @@
 //   relief    the paper's linear + binary search along the tangent-space view ray (its Sec. 3 and the
 //             appendix's ray_intersect_rm), with self-shadowing by the same search along the light ray;
 //   maxmip    exact: maximum-mipmap traversal (Tevs, Ihrke, Seidel 2008) down to the cell, where the ray
-//   meets
-//             the bilinear patch of CONVENTIONS §1 in closed form; no step count (docs/renderer.md);
+//             meets the bilinear patch of CONVENTIONS §1 in closed form; no step count (docs/renderer.md);
+//   cone      exact: cone step mapping (Dummer 2006; Policarpo & Oliveira 2007) with cones valid for whole
+//             bilinear cells and steps of at least one cell, each cell solved in closed form (Bán et al.
+//             2024's robustness fixes; strata/relief/cone_map.h); no step count;
 //   dual-depth the paper's Sec. 4: a dual-depth texture (strata/relief/dual_depth.h) as an impostor, the
 //             relief search with the inside test front <= d <= back.
 #pragma once
@@ -23,11 +25,12 @@
 
 namespace strata {
 
-enum class Technique { Texture, Normal, Parallax, Relief, MaxMip, DualDepth };
+enum class Technique { Texture, Normal, Parallax, Relief, MaxMip, Cone, DualDepth };
 
 // Every technique, in the order above.
-inline constexpr Technique kAllTechniques[] = {Technique::Texture, Technique::Normal, Technique::Parallax,
-                                               Technique::Relief,  Technique::MaxMip, Technique::DualDepth};
+inline constexpr Technique kAllTechniques[] = {Technique::Texture,  Technique::Normal, Technique::Parallax,
+                                               Technique::Relief,   Technique::MaxMip, Technique::Cone,
+                                               Technique::DualDepth};
 
 // What a pixel of the picture holds (CONVENTIONS §7 for uv, shadow and depth).
 enum class RenderOutput {
