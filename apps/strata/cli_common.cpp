@@ -1,8 +1,14 @@
 #include "cli_common.h"
 
+#include "strata/core/error.h"
+
 #include <unistd.h>
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <iostream>
+
+namespace fs = std::filesystem;
 
 namespace strata::cli {
 
@@ -30,6 +36,48 @@ void reportWritten(const std::filesystem::path& dir, const std::vector<std::file
     std::cout << "wrote " << dir.string() << ":";
     for (const auto& file : files) std::cout << " " << file.filename().string();
     std::cout << "\n";
+}
+
+fs::path sidecarPathFor(const fs::path& output) {
+    return fs::path(output.string() + ".json");
+}
+
+bool isPngName(const fs::path& path) {
+    std::string extension = path.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return extension == ".png";
+}
+
+DepthInput readDepthInput(const fs::path& path, bool height, const std::string& command) {
+    std::error_code ec;
+    const bool isDirectory = fs::is_directory(path, ec);
+    DepthInput input;
+    if (isDirectory || path.extension() == ".json") {
+        if (height)
+            throw Error(ErrorKind::Usage,
+                        command + ": --height is for a height-map file; a texture set holds depth");
+        input.set = readSidecar(path);
+        const fs::path dir = isDirectory ? path : path.parent_path();
+        input.setSidecar = dir / kSidecarName;
+        const auto depthEntry = input.set->find("depth");
+        if (depthEntry == input.set->end() || !depthEntry->is_object() || !depthEntry->contains("file") ||
+            !(*depthEntry)["file"].is_string())
+            throw Error(ErrorKind::InvalidInput,
+                        input.setSidecar.string() + ": \"depth\" has no \"file\" string");
+        input.file = dir / (*depthEntry)["file"].get<std::string>();
+        input.encoding = "depth";
+        input.inputs = {input.setSidecar, input.file};
+        input.depth = readDepthMap(input.file, DepthEncoding::Depth);
+        return input;
+    }
+    input.encoding = height ? "height" : "depth";
+    input.file = path;
+    input.inputs = {path};
+    std::string readNote;
+    input.depth = readDepthMap(path, height ? DepthEncoding::Height : DepthEncoding::Depth, &readNote);
+    if (!readNote.empty()) note(readNote);
+    return input;
 }
 
 }  // namespace strata::cli

@@ -4,7 +4,10 @@
 #include "strata/relief/texture_set.h"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
+#include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +23,7 @@ void addInfoCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addDualDepthCommand(CLI::App& app);
+void addConeMapCommand(CLI::App& app);
 
 // A progress line on stderr, only when stderr is a terminal (pipes and CI logs stay clean).
 void progress(const std::string& message);
@@ -32,5 +36,24 @@ void addBitDepthOption(CLI::App& command, int& bitDepth);
 
 // Prints what was written ("wrote DIR: depth.png normal.png ...") on stdout.
 void reportWritten(const std::filesystem::path& dir, const std::vector<std::filesystem::path>& files);
+
+// A single map's sidecar sits beside it and keeps its full name: AO.png -> AO.png.json. That cannot collide
+// with a texture set's strata.json or with another map's sidecar, and `ls` shows the pair together.
+std::filesystem::path sidecarPathFor(const std::filesystem::path& output);
+bool isPngName(const std::filesystem::path& path);  // .png, any case
+
+// The depth map a map-making command (ao, cone-map) reads: a depth map file (a height map with `height`),
+// or a texture-set directory or its strata.json (its depth map).
+struct DepthInput {
+    Image depth;
+    std::string encoding;                       // "depth" or "height"
+    std::filesystem::path file;                 // the map that was read
+    std::vector<std::filesystem::path> inputs;  // files an output must not overwrite
+    std::optional<nlohmann::json> set;          // a texture set's sidecar
+    std::filesystem::path setSidecar;           // and its path
+};
+// Throws Error(Usage) naming `command` for --height with a texture set; the read errors of readSidecar and
+// readDepthMap otherwise.
+DepthInput readDepthInput(const std::filesystem::path& input, bool height, const std::string& command);
 
 }  // namespace strata::cli

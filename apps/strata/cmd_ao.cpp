@@ -13,8 +13,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
-#include <cctype>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -41,70 +39,24 @@ struct AoOptions {
     int bitDepth = 16;
 };
 
-// The sidecar sits beside the map and keeps its full name: AO.png -> AO.png.json. That cannot collide
-// with a texture set's strata.json or with another map's sidecar, and `ls` shows the pair together.
-fs::path sidecarPathFor(const fs::path& output) {
-    return fs::path(output.string() + ".json");
-}
-
-bool isPngName(const fs::path& path) {
-    std::string extension = path.extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return extension == ".png";
-}
-
-// The depth map to bake, where it came from, and the files that must not be overwritten.
-struct DepthInput {
-    Image depth;
-    double depthScale = 0.0;
-    std::string encoding;  // "depth" or "height"
-    fs::path file;         // the map that was read
-    std::vector<fs::path> inputs;
-};
-
-DepthInput readInput(const AoOptions& options) {
+// The depth map to bake (cli_common.h) and the depth scale S: --depth-scale, else a texture set's.
+DepthInput readInput(const AoOptions& options, double* depthScale) {
     std::error_code ec;
     const bool isSet = fs::is_directory(options.input, ec) || options.input.extension() == ".json";
-    DepthInput input;
-    if (isSet) {
-        if (options.height)
-            throw Error(ErrorKind::Usage, "ao: --height is for a height-map file; a texture set holds depth");
-        const json sidecar = readSidecar(options.input);
-        const fs::path dir =
-            fs::is_directory(options.input, ec) ? options.input : options.input.parent_path();
-        const fs::path sidecarFile = dir / kSidecarName;
-        const auto depthEntry = sidecar.find("depth");
-        if (depthEntry == sidecar.end() || !depthEntry->is_object() || !depthEntry->contains("file") ||
-            !(*depthEntry)["file"].is_string())
-            throw Error(ErrorKind::InvalidInput, sidecarFile.string() + ": \"depth\" has no \"file\" string");
-        input.file = dir / (*depthEntry)["file"].get<std::string>();
-        if (options.depthScale) {
-            input.depthScale = *options.depthScale;
-        } else {
-            const auto scale = sidecar.find("depth_scale");
-            if (scale == sidecar.end() || !scale->is_number())
-                throw Error(ErrorKind::InvalidInput,
-                            sidecarFile.string() + ": \"depth_scale\" is missing or not a number");
-            input.depthScale = scale->get<double>();
-        }
-        input.encoding = "depth";
-        input.inputs = {sidecarFile, input.file};
-        input.depth = readDepthMap(input.file, DepthEncoding::Depth);
-        return input;
-    }
-    if (!options.depthScale)
+    if (!isSet && !options.depthScale)
         throw Error(ErrorKind::Usage,
                     "ao: --depth-scale S is required for a depth or height map (AO depends on S; only a "
                     "texture set records it)");
-    input.depthScale = *options.depthScale;
-    input.encoding = options.height ? "height" : "depth";
-    input.file = options.input;
-    input.inputs = {options.input};
-    std::string readNote;
-    input.depth =
-        readDepthMap(options.input, options.height ? DepthEncoding::Height : DepthEncoding::Depth, &readNote);
-    if (!readNote.empty()) note(readNote);
+    DepthInput input = readDepthInput(options.input, options.height, "ao");
+    if (options.depthScale) {
+        *depthScale = *options.depthScale;
+    } else {
+        const auto scale = input.set->find("depth_scale");
+        if (scale == input.set->end() || !scale->is_number())
+            throw Error(ErrorKind::InvalidInput,
+                        input.setSidecar.string() + ": \"depth_scale\" is missing or not a number");
+        *depthScale = scale->get<double>();
+    }
     return input;
 }
 
@@ -115,7 +67,8 @@ void runAo(const AoOptions& options) {
 
     // Read and bake everything before writing anything.
     progress("reading " + options.input.string());
-    const DepthInput input = readInput(options);
+    double depthScale = 0.0;
+    const DepthInput input = readInput(options, &depthScale);
     for (const fs::path& output : {options.output, sidecarPath})
         refuseToOverwriteInputs(output, input.inputs);
 
@@ -123,7 +76,7 @@ void runAo(const AoOptions& options) {
     params.method = parseAoMethod(options.method);
     params.directions = options.directions;
     params.radius = options.radius;
-    params.depthScale = input.depthScale;
+    params.depthScale = depthScale;
     params.filter = parseAoFilter(options.filter);
     params.normalize = parseAoNormalize(options.normalize);
     progress("ambient occlusion (" + options.method + ", " + std::to_string(params.directions) +

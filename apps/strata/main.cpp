@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
     strata::cli::addRenderCommand(app);
     strata::cli::addCompareCommand(app);
     strata::cli::addDualDepthCommand(app);
+    strata::cli::addConeMapCommand(app);
 
     try {
         app.parse(argc, argv);

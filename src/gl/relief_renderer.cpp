@@ -338,26 +338,12 @@ Image uploadedDepth(const Image& depth) {
     return result;
 }
 
-// The cone map texture (cone.glsl): RG16 per cell in max_mip.h's frame (row y is image row H - 1 - y;
-// cell (i, j) spans texels i..i+1, j..j+1, wrapping): R the cell's highest point (the smallest of its
-// four corners, the same 16-bit value the shader's textureGather reads), G sqrt(ratio / maxRatio) rounded
-// down (encodeConeRatio).
+// The cone map texture (cone.glsl): RG16 per cell, packConeMap's frame and values.
 GLuint makeConeMap(const Image& depth, double* maxRatio) {
-    const ConeMapOptions options;
-    const Image ratios = coneMap(depth, options);
-    const float cap = coneMapMaxRatio(depth, options);
+    const PackedConeMap packed = packConeMap(depth);
     const int width = depth.width(), height = depth.height();
-    const auto texel = [&](int x, int y) { return depth.at(x % width, height - 1 - (y % height)); };
-    std::vector<std::uint16_t> texels(static_cast<std::size_t>(width) * height * 2);
-    for (int y = 0; y < height; ++y) {
-        for (int x = 0; x < width; ++x) {
-            const float highest =
-                std::min({texel(x, y), texel(x + 1, y), texel(x, y + 1), texel(x + 1, y + 1)});
-            const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 2;
-            texels[i] = toUnorm16(highest);
-            texels[i + 1] = encodeConeRatio(ratios.at(x, y), cap);
-        }
-    }
+    std::vector<std::uint16_t> texels(packed.texels.pixels().size());
+    std::transform(packed.texels.pixels().begin(), packed.texels.pixels().end(), texels.begin(), toUnorm16);
     GLuint texture = 0;
     glCreateTextures(GL_TEXTURE_2D, 1, &texture);
     glTextureStorage2D(texture, 1, GL_RG16, width, height);
@@ -365,7 +351,7 @@ GLuint makeConeMap(const Image& depth, double* maxRatio) {
     glTextureSubImage2D(texture, 0, 0, 0, width, height, GL_RG, GL_UNSIGNED_SHORT, texels.data());
     glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    *maxRatio = cap;
+    *maxRatio = packed.maxRatio;
     return texture;
 }
 

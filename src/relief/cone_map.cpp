@@ -492,6 +492,31 @@ Image coneMap(const Image& depth, const ConeMapOptions& options) {
     return out;
 }
 
+PackedConeMap packConeMap(const Image& depth, const ConeMapOptions& options) {
+    const Image ratios = coneMap(depth, options);
+    PackedConeMap packed;
+    packed.maxRatio = coneMapMaxRatio(depth, options);
+    packed.depthLevels = options.depthLevels;
+    packed.texels = Image(depth.width(), depth.height(), 2);
+    const int width = depth.width(), height = depth.height();
+    // Frame row y is image row height - 1 - y (see the top of cone_map.h).
+    const auto texel = [&](int x, int y) { return depth.at(x % width, height - 1 - (y % height)); };
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const float highest =
+                std::min({texel(x, y), texel(x + 1, y), texel(x, y + 1), texel(x + 1, y + 1)});
+            // To 16 bits, never deeper than the cell's highest point (a depth that is already a 16-bit
+            // value keeps it exactly).
+            long q = std::lround(std::clamp(highest, 0.0f, 1.0f) * 65535.0f);
+            if (q > 0 && static_cast<float>(q) / 65535.0f > highest) --q;
+            packed.texels.at(x, y, 0) = static_cast<float>(q) / 65535.0f;
+            packed.texels.at(x, y, 1) =
+                static_cast<float>(encodeConeRatio(ratios.at(x, y), packed.maxRatio)) / 65535.0f;
+        }
+    }
+    return packed;
+}
+
 std::uint16_t encodeConeRatio(float ratio, float maxRatio) {
     STRATA_CHECK(maxRatio > 0.0f && std::isfinite(maxRatio));
     if (!(ratio > 0.0f)) return 0;

@@ -56,4 +56,17 @@ std::uint16_t encodeConeRatio(float ratio, float maxRatio);
 // round q / 65535 differently by an ulp; a shader should nudge the decoded ratio down by a relative 1e-6.
 float decodeConeRatio(std::uint16_t q, float maxRatio);
 
+// The cone map as the `cone` technique reads it (shaders/relief/cone.glsl) and as `strata cone-map` writes
+// it: per cell, in the frame above, channel 0 the cell's highest point m_C (the smallest of its four corner
+// depths, so that a ray above it may step by the cone of the apex (x, m_C)) and channel 1
+// sqrt(ratio / maxRatio) rounded down (encodeConeRatio), both 16-bit values q stored as q / 65535 (writing
+// them to a 16-bit PNG or a 16-bit unorm texture is exact). `depth` should hold the 16-bit values the
+// tracer will read, so that m_C and the cones describe that very height field.
+struct PackedConeMap {
+    Image texels;  // W x H x 2, frame rows (row j is cell row j, v growing with j)
+    float maxRatio = 0.0f;
+    int depthLevels = 0;
+};
+PackedConeMap packConeMap(const Image& depth, const ConeMapOptions& options = {});
+
 }  // namespace strata
