@@ -119,6 +119,24 @@ struct MaxMip {
     }
 };
 
+// bilinear_cell.glsl's cellAt and cellExit: the node of `width` cells that c0 + cd d is in (a point on a face
+// belongs to the node ahead of it) and the depth where the ray leaves it (at most 1).
+struct NodeStep {
+    glm::dvec2 node;
+    double exit = 1.0;
+};
+NodeStep nodeAt(glm::dvec2 c0, glm::dvec2 cd, double d, double width) {
+    const glm::dvec2 c = c0 + cd * d;
+    NodeStep step;
+    for (int a = 0; a < 2; ++a) {
+        const double direction = cd[a] > 0 ? 1.0 : cd[a] < 0 ? -1.0 : 0.0;
+        step.node[a] = std::floor((c[a] + direction * std::max(1e-4, std::abs(c[a]) * 5e-7)) / width);
+        if (std::abs(cd[a]) > 1e-20)
+            step.exit = std::min(step.exit, ((step.node[a] + (cd[a] >= 0 ? 1 : 0)) * width - c0[a]) / cd[a]);
+    }
+    return step;
+}
+
 // The patch of cell `node` crosses the ray in [d, dExit] (sampled finely enough to decide whether it does;
 // the fetch count does not depend on where).
 bool cellHit(const MaxMip& mip, glm::dvec2 node, glm::dvec2 c0, glm::dvec2 cd, double d, double dExit) {
@@ -142,19 +160,7 @@ int maxMipFetches(const MaxMip& mip, glm::dvec2 c0, glm::dvec2 cd) {
         fetches = 0;
     double d = 0.0;
     for (int iteration = 0; iteration < 1024; ++iteration) {
-        const double width = std::exp2(level);
-        const glm::dvec2 c = c0 + cd * d;
-        glm::dvec2 node;
-        double dExit = 1.0;
-        for (int a = 0; a < 2; ++a) {
-            const double nudge = (cd[a] > 0   ? 1.0
-                                  : cd[a] < 0 ? -1.0
-                                              : 0.0) *
-                                 std::max(1e-4, std::abs(c[a]) * 5e-7);
-            node[a] = std::floor((c[a] + nudge) / width);
-            if (std::abs(cd[a]) > 1e-20)
-                dExit = std::min(dExit, ((node[a] + (cd[a] >= 0 ? 1 : 0)) * width - c0[a]) / cd[a]);
-        }
+        const auto [node, dExit] = nodeAt(c0, cd, d, std::exp2(level));
         ++fetches;
         if (level == 0) {
             if (cellHit(mip, node, c0, cd, d, dExit) || dExit >= 1.0) return fetches;
@@ -191,18 +197,7 @@ int coneFetches(const MaxMip& mip, const ConeCells& cone, glm::dvec2 c0, glm::dv
     int fetches = 0;
     double d = 0.0;
     for (int iteration = 0; iteration < 2048; ++iteration) {
-        const glm::dvec2 c = c0 + cd * d;
-        glm::dvec2 cell;
-        double dExit = 1.0;
-        for (int a = 0; a < 2; ++a) {
-            const double nudge = (cd[a] > 0   ? 1.0
-                                  : cd[a] < 0 ? -1.0
-                                              : 0.0) *
-                                 std::max(1e-4, std::abs(c[a]) * 5e-7);
-            cell[a] = std::floor(c[a] + nudge);
-            if (std::abs(cd[a]) > 1e-20)
-                dExit = std::min(dExit, ((cell[a] + (cd[a] >= 0 ? 1 : 0)) - c0[a]) / cd[a]);
-        }
+        const auto [cell, dExit] = nodeAt(c0, cd, d, 1.0);
         ++fetches;
         const double highest = std::min({mip.texel(cell.x, cell.y), mip.texel(cell.x + 1, cell.y),
                                          mip.texel(cell.x, cell.y + 1), mip.texel(cell.x + 1, cell.y + 1)});

@@ -1,6 +1,7 @@
 #include "cli_common.h"
 
 #include "strata/core/error.h"
+#include "strata/core/file.h"
 
 #include <unistd.h>
 #include <algorithm>
@@ -78,6 +79,23 @@ DepthInput readDepthInput(const fs::path& path, bool height, const std::string& 
     input.depth = readDepthMap(path, height ? DepthEncoding::Height : DepthEncoding::Depth, &readNote);
     if (!readNote.empty()) note(readNote);
     return input;
+}
+
+void addDepthInputOption(CLI::App& command, fs::path& input) {
+    command
+        .add_option("depth", input,
+                    "Depth map (0 = top), height map with --height, or a texture-set directory / strata.json")
+        ->required();
+}
+
+void writeMapWithSidecar(const fs::path& output, const Image& map, const PngWriteOptions& png,
+                         const nlohmann::json& sidecar) {
+    const fs::path sidecarPath = sidecarPathFor(output);
+    writeFileAtomic(sidecarPath, [&](const fs::path& tmp) {
+        writeTextFileAtomic(tmp, sidecar.dump(2) + "\n");
+        writePng(output, map, png);
+    });
+    std::cout << "wrote " << output.string() << " " << sidecarPath.string() << "\n";
 }
 
 }  // namespace strata::cli

@@ -1,6 +1,7 @@
 // What the `strata` subcommands share: registration, progress and warning output, common options.
 #pragma once
 
+#include "strata/image/image_io.h"
 #include "strata/relief/texture_set.h"
 
 #include <CLI/CLI.hpp>
@@ -55,5 +56,13 @@ struct DepthInput {
 // Throws Error(Usage) naming `command` for --height with a texture set; the read errors of readSidecar and
 // readDepthMap otherwise.
 DepthInput readDepthInput(const std::filesystem::path& input, bool height, const std::string& command);
+// The DEPTH positional option that readDepthInput reads.
+void addDepthInputOption(CLI::App& command, std::filesystem::path& input);
+
+// Writes a map and its sidecar (sidecarPathFor(output)) so that a failure leaves neither: the sidecar is
+// staged first and moves in last, the map renamed into place (atomically) inside the sidecar's write.
+// Prints "wrote MAP SIDECAR".
+void writeMapWithSidecar(const std::filesystem::path& output, const Image& map, const PngWriteOptions& png,
+                         const nlohmann::json& sidecar);
 
 }  // namespace strata::cli

@@ -104,14 +104,8 @@ void runAo(const AoOptions& options) {
     sidecar["normalize"] = options.normalize;
     sidecar["input"] = {{"file", input.file.string()}, {"encoding", input.encoding}};
 
-    // The sidecar is staged first and moves in last: the map is renamed into place (atomically) inside
-    // the sidecar's write, so a failure before that leaves neither file.
-    const PngWriteOptions png{options.bitDepth == 8 ? PngBitDepth::Eight : PngBitDepth::Sixteen, true};
-    writeFileAtomic(sidecarPath, [&](const fs::path& tmp) {
-        writeTextFileAtomic(tmp, sidecar.dump(2) + "\n");
-        writePng(options.output, ao, png);
-    });
-    std::cout << "wrote " << options.output.string() << " " << sidecarPath.string() << "\n";
+    writeMapWithSidecar(options.output, ao,
+                        {options.bitDepth == 8 ? PngBitDepth::Eight : PngBitDepth::Sixteen, true}, sidecar);
 }
 
 }  // namespace
@@ -120,11 +114,7 @@ void addAoCommand(CLI::App& app) {
     auto options = std::make_shared<AoOptions>();
     CLI::App* command = app.add_subcommand(
         "ao", "Bake the ambient-occlusion map of a depth map or texture set (meta-relief paper, Sec. IV)");
-    command
-        ->add_option(
-            "depth", options->input,
-            "Depth map (0 = top), height map with --height, or a texture-set directory / strata.json")
-        ->required();
+    addDepthInputOption(*command, options->input);
     command->add_option("-o,--output", options->output, "Output AO map (.png); its sidecar is <output>.json")
         ->required();
     command

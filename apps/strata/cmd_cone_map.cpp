@@ -83,14 +83,7 @@ void runConeMap(const ConeMapCommandOptions& options) {
     sidecar["depth_levels"] = packed.depthLevels;
     sidecar["input"] = {{"file", input.file.string()}, {"encoding", input.encoding}};
 
-    // As `strata ao`: the sidecar is staged first and moves in last, the map renamed into place inside its
-    // write, so a failure leaves neither file.
-    const PngWriteOptions png{PngBitDepth::Sixteen, false};
-    writeFileAtomic(sidecarPath, [&](const fs::path& tmp) {
-        writeTextFileAtomic(tmp, sidecar.dump(2) + "\n");
-        writePng(options.output, file, png);
-    });
-    std::cout << "wrote " << options.output.string() << " " << sidecarPath.string() << "\n";
+    writeMapWithSidecar(options.output, file, {PngBitDepth::Sixteen, false}, sidecar);
 }
 
 }  // namespace
@@ -99,11 +92,7 @@ void addConeMapCommand(CLI::App& app) {
     auto options = std::make_shared<ConeMapCommandOptions>();
     CLI::App* command = app.add_subcommand(
         "cone-map", "Make the conservative cone map of a depth map or texture set (the `cone` technique's)");
-    command
-        ->add_option(
-            "depth", options->input,
-            "Depth map (0 = top), height map with --height, or a texture-set directory / strata.json")
-        ->required();
+    addDepthInputOption(*command, options->input);
     command
         ->add_option("-o,--output", options->output, "Output cone map (.png); its sidecar is <output>.json")
         ->required();

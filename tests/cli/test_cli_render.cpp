@@ -37,6 +37,17 @@ Image testDepth() {
     return depth;
 }
 
+// The exact reference of the verification scenes below: S = 0.1, target (0.5, 0.5, 0), 45 degrees, 96^2
+// pixels, light at (1.5, 0.2, 1.2), for the 16-bit depth map the CLI read.
+QuadReferenceImages exactReference(const std::filesystem::path& depthFile, glm::dvec3 eye) {
+    const HeightFieldTracer tracer(readImage(depthFile), 0.1);
+    Camera camera;
+    camera.eye = eye;
+    camera.target = {0.5, 0.5, 0.0};
+    camera.fovYDegrees = 45.0;
+    return renderQuadReference(tracer, camera, 96, 96, {glm::dvec3(1.5, 0.2, 1.2), std::nullopt});
+}
+
 TEST(CliRender, VerificationSceneMatchesTheExactReference) {
     test::ScratchDir dir("cli-render-verify");
     writePng(dir / "d.png", testDepth());
@@ -60,13 +71,7 @@ TEST(CliRender, VerificationSceneMatchesTheExactReference) {
     ASSERT_EQ(shadow.channels(), 1);
 
     // The reference sees the same 16-bit depth the CLI read.
-    const HeightFieldTracer tracer(readImage(dir / "d.png"), 0.1);
-    Camera camera;
-    camera.eye = {0.5, -0.3, 1.4};
-    camera.target = {0.5, 0.5, 0.0};
-    camera.fovYDegrees = 45.0;
-    const QuadReferenceImages reference =
-        renderQuadReference(tracer, camera, 96, 96, {glm::dvec3(1.5, 0.2, 1.2), std::nullopt});
+    const QuadReferenceImages reference = exactReference(dir / "d.png", {0.5, -0.3, 1.4});
     const UvComparison result = compareUv(reference.uv, uv, 64, 64);
     EXPECT_GT(result.referenceHits, 3000);
     // The thresholds at moderate angles: 0.5 % hit/miss, p99 within 1 texel.
@@ -191,13 +196,7 @@ TEST(CliRender, ConeIsExactOnAnyMapSize) {
     ASSERT_EQ(uvRun.exitCode, 0) << uvRun.output;
     ASSERT_EQ(runCli("render" + view + " --output shadow -o " + quoted(dir / "shadow.png")).exitCode, 0);
     const Image uv = readImage(dir / "uv.png");
-    const HeightFieldTracer tracer(readImage(dir / "d.png"), 0.1);
-    Camera camera;
-    camera.eye = {0.5, -0.6, 0.9};
-    camera.target = {0.5, 0.5, 0.0};
-    camera.fovYDegrees = 45.0;
-    const QuadReferenceImages reference =
-        renderQuadReference(tracer, camera, 96, 96, {glm::dvec3(1.5, 0.2, 1.2), std::nullopt});
+    const QuadReferenceImages reference = exactReference(dir / "d.png", {0.5, -0.6, 0.9});
     const UvComparison result = compareUv(reference.uv, uv, 60, 40);
     std::printf("cone via the CLI: mismatch %.3f %%, p99 %.4f texel\n", 100.0 * result.mismatchFraction,
                 result.p99);
