@@ -89,7 +89,7 @@ float reliefDepth(vec2 uv) {
 // when `strict`. The searches ask only this, so a live meta-relief stops reading layers once the answer is
 // certain: after the layers read so far (partial sum P of Eq. 2) the rest adds between uLayerRestLow and
 // uLayerRestHigh (every mip level of a layer stays within its map's range), so depth < P + low means above
-// and depth >= P + high below. Most search steps are far above the surface and read only the first layer;
+// and depth > P + high below. Most search steps are far above the surface and read only the first layer;
 // the answer is the one the full sum gives (up to the float rounding of the sum's order).
 bool reliefBelow(vec2 uv, float depth, bool strict) {
 #ifdef STRATA_META_LIVE
