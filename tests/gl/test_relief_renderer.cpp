@@ -268,6 +268,22 @@ TEST_F(RendererGl, ConeAndMaxMipShadeTheTeapotAlike) {
     EXPECT_GT(covered, 160 * 120 / 5);
 }
 
+// Rendering `material` on the quad with `technique` throws Error(InvalidInput) whose message has `reason`,
+// and draws nothing.
+void expectRefused(const GpuMaterial& material, Technique technique, const std::string& reason) {
+    ReliefRenderer renderer;
+    const GpuMesh quad = uploadMesh(makeBuiltinMesh("quad"));
+    RenderRequest request = quadRequest(quad, material, quadCamera(45.0), RenderOutput::Uv);
+    request.relief.technique = technique;
+    try {
+        renderer.render(request);
+        ADD_FAILURE() << toString(technique) << " rendered; expected: " << reason;
+    } catch (const Error& error) {
+        EXPECT_EQ(error.kind(), ErrorKind::InvalidInput);
+        EXPECT_NE(std::string(error.what()).find(reason), std::string::npos) << error.what();
+    }
+}
+
 // A live material has no single depth map to make a cone map of: cone refuses it with the reason.
 TEST_F(RendererGl, ConeRefusesLiveMaterials) {
     std::vector<CompositionLayer> layers(1);
@@ -276,18 +292,7 @@ TEST_F(RendererGl, ConeRefusesLiveMaterials) {
     compose.depthScale = kDepthScale;
     const GpuMaterial material = uploadLiveMaterial(layers, compose, std::nullopt, AoParams{});
     EXPECT_EQ(material.coneTexture(), 0u);
-    ReliefRenderer renderer;
-    const GpuMesh quad = uploadMesh(makeBuiltinMesh("quad"));
-    RenderRequest request = quadRequest(quad, material, quadCamera(45.0), RenderOutput::Uv);
-    request.relief.technique = Technique::Cone;
-    try {
-        renderer.render(request);
-        ADD_FAILURE() << "a live material rendered with cone";
-    } catch (const Error& error) {
-        EXPECT_EQ(error.kind(), ErrorKind::InvalidInput);
-        EXPECT_NE(std::string(error.what()).find("cone needs a baked material"), std::string::npos)
-            << error.what();
-    }
+    expectRefused(material, Technique::Cone, "cone needs a baked material");
 }
 
 // maxmip's pyramid needs power-of-two sides: another map is refused with the reason, not drawn wrong.
@@ -298,18 +303,7 @@ TEST_F(RendererGl, MaxMipRefusesOtherSizes) {
     odd.depthScale = kDepthScale;
     const GpuMaterial material = uploadMaterial(odd, kDepthScale);
     EXPECT_EQ(material.maxMipTexture(), 0u);
-    ReliefRenderer renderer;
-    const GpuMesh quad = uploadMesh(makeBuiltinMesh("quad"));
-    RenderRequest request = quadRequest(quad, material, quadCamera(45.0), RenderOutput::Uv);
-    request.relief.technique = Technique::MaxMip;
-    try {
-        renderer.render(request);
-        ADD_FAILURE() << "a 100x64 map rendered with maxmip";
-    } catch (const Error& error) {
-        EXPECT_EQ(error.kind(), ErrorKind::InvalidInput);
-        EXPECT_NE(std::string(error.what()).find("powers of two, got 100x64"), std::string::npos)
-            << error.what();
-    }
+    expectRefused(material, Technique::MaxMip, "powers of two, got 100x64");
 }
 
 // Normal and parallax mapping have no ray / relief intersection; their shadows are the light-ray test from
