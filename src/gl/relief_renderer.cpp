@@ -406,6 +406,7 @@ unsigned GpuMaterial::coneTexture() const {
     if (mCone == 0 && !mConeDepth.empty()) {
         mCone = makeConeMap(mConeDepth, &mConeMaxRatio);
         checkGl("cone map");
+        mConeDepth = Image();  // no longer needed: the texture holds all that the cone technique reads
     }
     return mCone;
 }

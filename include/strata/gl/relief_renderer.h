@@ -153,7 +153,7 @@ private:
     int mColorLayer = -1;
     unsigned mComposedAo = 0;
     unsigned mMaxMip = 0;
-    Image mConeDepth;            // the uploaded depth (16-bit values), until coneTexture() is made
+    mutable Image mConeDepth;    // the uploaded depth (16-bit values), until coneTexture() is made
     mutable unsigned mCone = 0;  // made on first use (coneTexture)
     mutable double mConeMaxRatio = 0.0;
     bool mDualDepth = false;
