@@ -76,28 +76,56 @@ TEST_F(RendererGl, RenderingIsDeterministic) {
     }
 }
 
+// One view of the quad with `technique` against the exact tracer: the uv output's agreement and the shadow
+// output's, printed as a table row. Where `failed` says the result misses its bounds, the reference, test
+// and difference pictures go to the test failure directory.
+struct ViewResult {
+    UvComparison uv;
+    MaskAgreement shadow;
+};
+template <typename Failed>
+ViewResult compareView(ReliefRenderer& renderer, const GpuMesh& quad, const std::string& name,
+                       const ReliefTexture& texture, const GpuMaterial& material, Technique technique,
+                       double angle, const Failed& failed) {
+    const HeightFieldTracer tracer(texture.depth, kDepthScale);
+    const Camera camera = quadCamera(angle);
+    const QuadReferenceImages reference =
+        renderQuadReference(tracer, camera, kPicture, kPicture, {glm::dvec3(1.5, 0.0, 1.5), std::nullopt});
+    RenderRequest request = quadRequest(quad, material, camera, RenderOutput::Uv);
+    request.relief.technique = technique;
+    const Image uv = renderer.render(request);
+    request.picture.output = RenderOutput::Shadow;
+    const Image shadow = renderer.render(request);
+    const int w = texture.depth.width(), h = texture.depth.height();
+    const ViewResult result{compareUv(reference.uv, uv, w, h),
+                            compareShadow(reference.shadow, shadow, reference.uv, uv)};
+    std::printf("%-14s %5.0f %10.3f %8.4f %8.4f %8.2f\n", name.c_str(), angle,
+                100.0 * result.uv.mismatchFraction, result.uv.p50, result.uv.p99,
+                100.0 * result.shadow.fraction);
+    if (failed(result)) {
+        const std::string stem =
+            std::string(toString(technique)) + "_" + name + "_" + std::to_string(static_cast<int>(angle));
+        const std::filesystem::path dir = test::failureDirectory("quad_reference");
+        const Image difference = uvDiffImage(reference.uv, uv, w, h);
+        writeComparisonImages(dir, stem + "_uv", reference.uv, uv, difference);
+        writeComparisonImages(dir, stem + "_shadow", reference.shadow, shadow, difference);
+        std::printf("  wrote %s/%s_*.png\n", dir.c_str(), stem.c_str());
+    }
+    return result;
+}
+
+const char* const kViewTableHeader = "%-14s %5s %10s %8s %8s %8s\n";
+
 // The uv and shadow outputs of relief 64 + 8 against the exact tracer, on every pattern at 5, 45 and 75
 // degrees from the normal.
 TEST_F(RendererGl, QuadMatchesExactReference) {
     ReliefRenderer renderer;
     const GpuMesh quad = uploadMesh(makeBuiltinMesh("quad"));
-    const glm::dvec3 light(1.5, 0.0, 1.5);
-    std::printf("%-13s %5s %10s %8s %8s %8s\n", "pattern", "angle", "mismatch%", "p50", "p99", "shadow%");
+    std::printf(kViewTableHeader, "pattern", "angle", "mismatch%", "p50", "p99", "shadow%");
     for (const PatternInfo& info : patternList()) {
         const ReliefTexture texture = quantisedPattern(info.name, kPatternSize);
         const GpuMaterial material = uploadMaterial(texture, kDepthScale);
-        const HeightFieldTracer tracer(texture.depth, kDepthScale);
         for (const double angle : {5.0, 45.0, 75.0}) {
-            const Camera camera = quadCamera(angle);
-            const QuadReferenceImages reference =
-                renderQuadReference(tracer, camera, kPicture, kPicture, {light, std::nullopt});
-            const Image uv = renderer.render(quadRequest(quad, material, camera, RenderOutput::Uv));
-            const Image shadow = renderer.render(quadRequest(quad, material, camera, RenderOutput::Shadow));
-            const UvComparison uvResult = compareUv(reference.uv, uv, kPatternSize, kPatternSize);
-            const MaskAgreement shadowResult = compareShadow(reference.shadow, shadow, reference.uv, uv);
-            std::printf("%-13s %5.0f %10.3f %8.3f %8.3f %8.2f\n", info.name.c_str(), angle,
-                        100.0 * uvResult.mismatchFraction, uvResult.p50, uvResult.p99,
-                        100.0 * shadowResult.fraction);
             // Hit/miss: every ray that enters the quad hits the relief, so a disagreement is a pixel whose
             // centre lies within rounding of the quad's edge: 0.5 % of ~25k hit pixels is ~120, the length
             // of the quad's outline is ~700 pixels; at 75 degrees the outline is steeper in perspective.
@@ -113,20 +141,15 @@ TEST_F(RendererGl, QuadMatchesExactReference) {
             // Shadows: the light-ray search is a linear search only (paper Sec. 3.1), and the exact test
             // counts any grazing touch; 97 % of the pixels where both hit.
             const double minShadow = 0.97;
-            const bool ok = uvResult.mismatchFraction <= maxMismatch && uvResult.p99 <= maxP99 &&
-                            shadowResult.fraction >= minShadow;
-            EXPECT_LE(uvResult.mismatchFraction, maxMismatch) << info.name << " at " << angle;
-            EXPECT_LE(uvResult.p99, maxP99) << info.name << " at " << angle;
-            EXPECT_GE(shadowResult.fraction, minShadow) << info.name << " at " << angle;
-            if (!ok) {
-                const std::string stem = info.name + "_" + std::to_string(static_cast<int>(angle));
-                const std::filesystem::path dir = test::failureDirectory("quad_reference");
-                writeComparisonImages(dir, stem + "_uv", reference.uv, uv,
-                                      uvDiffImage(reference.uv, uv, kPatternSize, kPatternSize));
-                writeComparisonImages(dir, stem + "_shadow", reference.shadow, shadow,
-                                      uvDiffImage(reference.uv, uv, kPatternSize, kPatternSize));
-                std::printf("  wrote %s/%s_*.png\n", dir.c_str(), stem.c_str());
-            }
+            const ViewResult result = compareView(renderer, quad, info.name, texture, material,
+                                                  Technique::Relief, angle, [&](const ViewResult& r) {
+                                                      return r.uv.mismatchFraction > maxMismatch ||
+                                                             r.uv.p99 > maxP99 ||
+                                                             r.shadow.fraction < minShadow;
+                                                  });
+            EXPECT_LE(result.uv.mismatchFraction, maxMismatch) << info.name << " at " << angle;
+            EXPECT_LE(result.uv.p99, maxP99) << info.name << " at " << angle;
+            EXPECT_GE(result.shadow.fraction, minShadow) << info.name << " at " << angle;
         }
     }
 }
@@ -151,7 +174,6 @@ ReliefTexture wallMap(int size) {
 void expectExact(Technique technique, std::vector<std::pair<std::string, ReliefTexture>> extraMaps = {}) {
     ReliefRenderer renderer;
     const GpuMesh quad = uploadMesh(makeBuiltinMesh("quad"));
-    const glm::dvec3 light(1.5, 0.0, 1.5);
     std::vector<std::pair<std::string, ReliefTexture>> maps;
     for (const PatternInfo& info : patternList())
         maps.emplace_back(info.name, quantisedPattern(info.name, kPatternSize));
@@ -170,34 +192,17 @@ void expectExact(Technique technique, std::vector<std::pair<std::string, ReliefT
     }
     for (auto& map : extraMaps) maps.push_back(std::move(map));
     std::printf("%s\n", toString(technique));
-    std::printf("%-13s %5s %10s %8s %8s %8s\n", "map", "angle", "mismatch%", "p50", "p99", "shadow%");
+    std::printf(kViewTableHeader, "map", "angle", "mismatch%", "p50", "p99", "shadow%");
     for (const auto& [name, texture] : maps) {
         const GpuMaterial material = uploadMaterial(texture, kDepthScale);
-        const HeightFieldTracer tracer(texture.depth, kDepthScale);
         for (const double angle : {5.0, 45.0, 75.0}) {
-            const Camera camera = quadCamera(angle);
-            const QuadReferenceImages reference =
-                renderQuadReference(tracer, camera, kPicture, kPicture, {light, std::nullopt});
-            RenderRequest request = quadRequest(quad, material, camera, RenderOutput::Uv);
-            request.relief.technique = technique;
-            const Image uv = renderer.render(request);
-            request.picture.output = RenderOutput::Shadow;
-            const Image shadow = renderer.render(request);
-            const int w = texture.depth.width(), h = texture.depth.height();
-            const UvComparison uvResult = compareUv(reference.uv, uv, w, h);
-            const MaskAgreement shadowResult = compareShadow(reference.shadow, shadow, reference.uv, uv);
-            std::printf("%-13s %5.0f %10.3f %8.4f %8.4f %8.2f\n", name.c_str(), angle,
-                        100.0 * uvResult.mismatchFraction, uvResult.p50, uvResult.p99,
-                        100.0 * shadowResult.fraction);
-            EXPECT_LE(uvResult.mismatchFraction, 0.002) << name << " at " << angle;
-            EXPECT_LE(uvResult.p99, 0.25) << name << " at " << angle;
-            EXPECT_GE(shadowResult.fraction, 0.99) << name << " at " << angle;
-            if (uvResult.p99 > 0.25 || shadowResult.fraction < 0.99) {
-                const std::string stem = std::string(toString(technique)) + "_" + name + "_" +
-                                         std::to_string(static_cast<int>(angle));
-                writeComparisonImages(test::failureDirectory("quad_reference"), stem + "_uv", reference.uv,
-                                      uv, uvDiffImage(reference.uv, uv, w, h));
-            }
+            const ViewResult result = compareView(
+                renderer, quad, name, texture, material, technique, angle, [](const ViewResult& r) {
+                    return r.uv.mismatchFraction > 0.002 || r.uv.p99 > 0.25 || r.shadow.fraction < 0.99;
+                });
+            EXPECT_LE(result.uv.mismatchFraction, 0.002) << name << " at " << angle;
+            EXPECT_LE(result.uv.p99, 0.25) << name << " at " << angle;
+            EXPECT_GE(result.shadow.fraction, 0.99) << name << " at " << angle;
         }
     }
 }
