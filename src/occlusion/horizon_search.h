@@ -7,9 +7,18 @@ namespace strata::detail {
 
 // Marches each direction at params.marchStep (AoMethod::Brute and AoMethod::Paper).
 HorizonMap marchHorizons(const Image& depth, const AoParams& params);
-// The line sweep with a convex-hull stack (AoMethod::Sweep).
-HorizonMap sweepHorizons(const Image& depth, const AoParams& params);
+// The sweep's SIMD kernels: 8 lanes with SSE2 (any x86-64, or GCC's generic vectors elsewhere) or AVX2,
+// 16 lanes with AVX-512 (F, VL, BW, DQ). They compute the same numbers bit for bit. Auto, the default,
+// is the widest that this CPU runs; the others are there for tests and benchmarks.
+enum class SweepKernel { Auto, Portable, Avx2, Avx512 };
+// Whether this CPU (and build) runs `kernel`; Auto and Portable always do.
+bool sweepKernelRuns(SweepKernel kernel);
+const char* toString(SweepKernel kernel);
+
+// The line sweep with a convex-hull stack (AoMethod::Sweep). Throws Error when this CPU cannot run
+// `kernel`.
+HorizonMap sweepHorizons(const Image& depth, const AoParams& params, SweepKernel kernel = SweepKernel::Auto);
 // The sweep's cosine-weighted AO, accumulated direction by direction without storing the horizons.
-Image sweepAo(const Image& depth, const AoParams& params);
+Image sweepAo(const Image& depth, const AoParams& params, SweepKernel kernel = SweepKernel::Auto);
 
 }  // namespace strata::detail

@@ -2,12 +2,13 @@
 // strata/occlusion/ambient_occlusion.h for what it computes and how exact it is.
 //
 // Per direction, parallel lines one texel apart sweep the map. Every line has the same sample times
-// and interpolation weights, only its heights differ, so kLanes neighbouring lines run in lockstep,
-// one per SIMD lane: the control flow that depends on t alone (blocks, windows, which texel asks which
-// hull) is shared, and the hull loops that depend on the heights run until every lane is done, with
-// masks. Opposite directions (i and i + M/2, M even) use the same lines, texels and samples, looking
-// the other way along them, so they share the samples and every hull. Per line group, the near field,
-// the point at R, then the far field raise each texel's tan h; then the sink reads them.
+// and interpolation weights, only its heights differ, so neighbouring lines run in lockstep, one per
+// SIMD lane (8 with SSE2 or AVX2, 16 with AVX-512): the control flow that depends on t alone (which
+// texel asks when, which samples it sees) is shared, and the hull loops that depend on the heights run
+// until every lane is done, with masks. Opposite directions (i and i + M/2, M even) use the same
+// lines, texels and samples, looking the other way along them, so they share the samples. Per line
+// group, the near field, the point at R, then the far field raise each texel's tan h; then the sink
+// reads them. The kernel is in sweep_kernel.h, included once per lane width below.
 //
 // The near field (up to kNear columns), walked exactly on each texel's own line: every crossing and the
 // quadratic arc inside each cell, plus the t -> 0+ slope. Every texel's own line has the same offsets
@@ -17,27 +18,24 @@
 // The far field (distances kNear columns .. R). A line's profile is sampled at every major texel centre
 // and every minor grid crossing (the bilinear relief is linear along both), and texel P, the texel
 // nearest to the line at a column, asks for the largest elevation (z - zP) / |tP - t| over the samples
-// with |tP - t| in [kNear dt, R] on its side, plus the point at exactly R. Those windows slide, so the
-// line is cut into blocks as long as a window (L = R - kNear dt): a window lies in the end of one block
-// and the start of the next (or, rarely, inside one block: then its samples are read one by one).
-// Block by block, a forward pass pushes the block's samples from its first onto an upper convex hull
-// on a stack (Timonen & Westerholm 2010: pushing a point pops the ones it hides) and answers the
-// windows that end in the block; a backward pass pushes them from its last and answers the windows
-// that start in it. Each sample is pushed at most twice and popped at most twice; each texel makes at
-// most two tangent searches, each from where the previous one on that hull ended. A hull is only
-// pushed up to where some lane needs it: a lane skips a hull when the highest sample in its part of
-// the window, at that part's nearest distance, cannot beat the tan h it already has. A lane's stacks
-// are its own (slot d of lane l at d kLanes + l; reads are gathers), but every lane pushes the same
-// samples at the same time, so whether a stack is empty is shared.
+// with |tP - t| in [kNear dt, R] on its side (its window), plus the point at exactly R. Per side, one
+// upper convex hull on a stack (Timonen & Westerholm 2010: pushing a point pops the ones it hides)
+// takes the line's samples in order, up to the window's near end, and the texel's tangent to it (a
+// local search from the previous answer) is the highest sample over its window and everything beyond.
+// That is the window's answer unless the tangent lies beyond R and would raise tan h; only then does
+// the lane read its window itself (farFieldOfSide). Each sample is pushed once per side and popped at
+// most once; each texel makes one tangent query per side. A lane's stack is its own (slot d of lane l
+// at d kLanes + l; reads are gathers), but every lane pushes the same samples at the same time.
 //
 // The line is at most half a texel beside P, and that offset only matters beyond kNear columns, where
 // it changes the elevation by at most (offset x slope across) / distance.
 #include "horizon_line.h"
 #include "horizon_search.h"
+#include "strata/core/error.h"
 
 #if defined(__x86_64__) || defined(__i386__)
 #define STRATA_SWEEP_X86
-#include <immintrin.h>  // declares the AVX2 builtins
+#include <immintrin.h>  // the AVX2 and AVX-512 builtins and intrinsics
 #endif
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -51,6 +49,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <string>
 #include <vector>
 
 namespace strata::detail {
@@ -61,115 +60,28 @@ namespace {
 // (docs/occlusion.md); 2 doubles it, 8 costs twice the time for a further halving.
 constexpr int kNear = 4;
 constexpr int kPad = kNear + 2;
-// Unpaired, the window ends past one block that its texels may read sample by sample rather than start
-// another block.
-constexpr int kTailSteps = 16;
+// The widest line group (AVX-512): the relief is padded for its last lane.
+constexpr int kMaxLanes = 16;
+// A lane that reads its window itself skips runs of this many samples at a time.
+constexpr int kRun = 16;
 
-// Lines per group: one AVX2 register of floats. The lanes' hull loops run as long as their slowest
-// lane, so wider groups gain less than their width.
-constexpr int kLanes = 8;
-
-// GCC vector extensions: plain SSE2 in groupHorizonsPortable, AVX2 in groupHorizonsAvx2 (below). Every
-// function that takes or returns them is always inlined into those two, so the ABI of 32-byte vectors
-// without AVX, which GCC warns about, never applies.
+// GCC vector extensions, each lane width in a namespace of its own below. Every function that takes or
+// returns them is always inlined into a kernel compiled for the ISA that holds them, so the ABI of wide
+// vectors without that ISA, which GCC warns about, never applies.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
-using Floats = float __attribute__((vector_size(kLanes * sizeof(float))));
-using Ints = std::int32_t __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
-using Words = long long __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
-
-constexpr Ints kLaneIndex = {0, 1, 2, 3, 4, 5, 6, 7};
-static_assert(kLanes == 8, "kLaneIndex lists the lanes");
-
-[[gnu::always_inline]] inline Floats load(const float* p) {
-    Floats v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
-[[gnu::always_inline]] inline void store(float* p, Floats v) {
-    std::memcpy(p, &v, sizeof v);
-}
-[[gnu::always_inline]] inline Floats splat(float x) {
-    return Floats{} + x;
-}
-[[gnu::always_inline]] inline Floats max(Floats a, Floats b) {
-    return a > b ? a : b;
-}
-[[gnu::always_inline]] inline Floats min(Floats a, Floats b) {
-    return a < b ? a : b;
-}
-[[gnu::always_inline]] inline Ints max(Ints a, Ints b) {
-    return a > b ? a : b;
-}
-[[gnu::always_inline]] inline Ints min(Ints a, Ints b) {
-    return a < b ? a : b;
-}
-// Whether any lane is set. kAvx2: one VPTEST, in code that only runs inside a function compiled for
-// AVX2 (the builtin, unlike its intrinsic, may sit in a function inlined into one).
-template <bool kAvx2>
-[[gnu::always_inline]] inline bool any(Ints mask) {
-    const auto w = std::bit_cast<Words>(mask);
-#ifdef STRATA_SWEEP_X86
-    if constexpr (kAvx2) return !__builtin_ia32_ptestz256(w, w);
-#endif
-    return ((w[0] | w[1]) | (w[2] | w[3])) != 0;
-}
-// The stack slot d of every lane.
-[[gnu::always_inline]] inline Ints slot(Ints d) {
-    return d * kLanes + kLaneIndex;
-}
-
-// A point of each lane's profile.
-struct Points {
-    Floats t;
-    Floats z;
-};
-[[gnu::always_inline]] inline Points select(Ints mask, const Points& a, const Points& b) {
-    return {mask ? a.t : b.t, mask ? a.z : b.z};
-}
-// Stacks hold (t, z) pairs, so that reading a lane's point is one 8-byte load: entry e of lane l at
-// 2 (e kLanes + l). Lanes 0, 1, 4, 5 are read into one register and 2, 3, 6, 7 into another, so that
-// one shuffle within 128-bit halves (SHUFPS) splits them into t and z in lane order.
-using Pairs = double __attribute__((vector_size(kLanes * sizeof(float))));
-constexpr int kPairLane[2][kLanes / 2] = {{0, 1, 4, 5}, {2, 3, 6, 7}};
-constexpr Ints kFirstOfPair = {0, 2, 8, 10, 4, 6, 12, 14};
-constexpr Ints kPairOfLow = {0, 8, 1, 9, 4, 12, 5, 13};  // (t, z) of lanes 0, 1, 4, 5
-constexpr Ints kPairOfHigh = {2, 10, 3, 11, 6, 14, 7, 15};
-[[gnu::always_inline]] inline Points gather(const float* pairs, Ints index) {
-    Pairs low;
-    Pairs high;
-    for (int l = 0; l < kLanes / 2; ++l) {
-        std::memcpy(&low[l], pairs + 2 * index[kPairLane[0][l]], sizeof(double));
-        std::memcpy(&high[l], pairs + 2 * index[kPairLane[1][l]], sizeof(double));
-    }
-    const auto a = std::bit_cast<Floats>(low);
-    const auto b = std::bit_cast<Floats>(high);
-    return {__builtin_shuffle(a, b, kFirstOfPair), __builtin_shuffle(a, b, kFirstOfPair + 1)};
-}
-[[gnu::always_inline]] inline void scatter(float* pairs, Ints index, const Points& p) {
-    const auto low = std::bit_cast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfLow));
-    const auto high = std::bit_cast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfHigh));
-    for (int l = 0; l < kLanes / 2; ++l) {
-        std::memcpy(pairs + 2 * index[kPairLane[0][l]], &low[l], sizeof(double));
-        std::memcpy(pairs + 2 * index[kPairLane[1][l]], &high[l], sizeof(double));
-    }
-}
-
-// > 0 where c lies above the line through a and b (a.t < b.t).
-[[gnu::always_inline]] inline Floats orient(const Points& a, const Points& b, const Points& c) {
-    return (b.t - a.t) * (c.z - a.z) - (b.z - a.z) * (c.t - a.t);
-}
 
 // z = -S d in (major a, minor b) order, the minor axis contiguous: column a holds every minor index b.
 // The minor axis is stored twice over (b in [0, 2 sizeB)) so that line j's row j + b never wraps, and
-// wrapped texels pad every side for the near field, plus kLanes more at the end for the last lane.
+// wrapped texels pad every side for the near field, plus kMaxLanes more at the end for the last lane of the
+// widest group.
 class PaddedRelief {
 public:
     PaddedRelief(const Image& depth, bool xMajor, float scale)
         : mSizeA(xMajor ? depth.width() : depth.height()),
           mSizeB(xMajor ? depth.height() : depth.width()),
-          mStride(2 * mSizeB + 2 * kPad + kLanes),
+          mStride(2 * mSizeB + 2 * kPad + kMaxLanes),
           // Every entry is written below: no zero fill (the map is twice the depth map's size).
           mZ(std::make_unique_for_overwrite<float[]>(static_cast<std::size_t>(mStride) *
                                                      static_cast<std::size_t>(mSizeA + 2 * kPad))) {
@@ -179,14 +91,14 @@ public:
                                   const int aw = MajorMinorDepth::wrap(a, mSizeA);
                                   float* column = mZ.get() + index(a, -kPad);
                                   int bw = MajorMinorDepth::wrap(-kPad, mSizeB);
-                                  for (int b = -kPad; b < 2 * mSizeB + kPad + kLanes; ++b) {
+                                  for (int b = -kPad; b < 2 * mSizeB + kPad + kMaxLanes; ++b) {
                                       *column++ = -scale * (xMajor ? depth.at(aw, bw) : depth.at(bw, aw));
                                       if (++bw == mSizeB) bw = 0;
                                   }
                               }
                           });
     }
-    // a in [-kPad, sizeA + kPad), b in [-kPad, 2 sizeB + kPad + kLanes).
+    // a in [-kPad, sizeA + kPad), b in [-kPad, 2 sizeB + kPad + kMaxLanes).
     std::ptrdiff_t index(int a, int b) const {
         return static_cast<std::ptrdiff_t>(a + kPad) * mStride + static_cast<std::ptrdiff_t>(b + kPad);
     }
@@ -316,8 +228,7 @@ struct DirectionPlan {
     std::vector<std::ptrdiff_t> sampleIndex0;
     std::vector<std::ptrdiff_t> sampleIndex1;
     std::vector<float> sampleW;
-    std::vector<int> sampleBlock;       // floor((t - t0) / B) from 0, t0 the first texel's window end
-    std::vector<int> blockFirstSample;  // block -> its first sample (and one past the end)
+    int longestWindow = 1;  // the most samples in one texel's window
     // Per side and step k: the samples in texel k's window [first, last], those between kNear steps and
     // R away, and the point at exactly R: bilinear between columns k1, k1 + 1 (weight alpha of the
     // second) and rows r, r + 1 (weight frac); index of (k1, r) for line 0, and of (k1 + 1, r).
@@ -387,28 +298,6 @@ struct DirectionPlan {
             sampleIndex1.push_back(relief.index(column(k), wrapB(fb) + 1));
             sampleW.push_back(static_cast<float>(b - fb));
         }
-        // Blocks of B >= L from the first texel's window end: a window then ends in the block where it
-        // starts or in the next. Each block's start costs a backward hull of the block before, so
-        // unpaired, when one block of B > L holds every window end of the line but the last few (R about
-        // a tile: the ends span (sizeA - 1) dt), it does; those few windows lie inside one block and read
-        // their samples one by one. Paired, the other side's windows start where this side's end, so
-        // B = L.
-        const double anchor = -kNear * dt;
-        const double span = (sizeA - 1) * dt;
-        // Float t: a window is L to within a few 1e-7 of the largest |t|.
-        const double minimum = farLength * (1.0 + 1e-5) + 1e-6 * (1.0 + span + radius);
-        const double blockLength =
-            !paired && span > minimum && span - minimum < kTailSteps * dt ? span * (1.0 + 1e-6) : minimum;
-        for (const float t : sampleT)
-            sampleBlock.push_back(
-                static_cast<int>(std::floor((static_cast<double>(t) - anchor) / blockLength)));
-        const int base = sampleBlock[0];
-        for (int& b : sampleBlock) b -= base;
-        for (std::size_t s = 0; s < sampleBlock.size(); ++s)
-            while (static_cast<int>(blockFirstSample.size()) <= sampleBlock[s])
-                blockFirstSample.push_back(static_cast<int>(s));
-        blockFirstSample.push_back(static_cast<int>(sampleBlock.size()));
-
         const auto dtf = static_cast<float>(dt);
         const auto radiusf = static_cast<float>(radius);
         const int count = static_cast<int>(sampleT.size());
@@ -435,353 +324,192 @@ struct DirectionPlan {
                 w.boundaryIndex1.push_back(relief.index(column(static_cast<int>(k1) + 1), wrapB(fb)));
                 w.boundaryFrac.push_back(static_cast<float>(b - fb));
                 w.boundaryAlpha.push_back(static_cast<float>(u - k1));
+                longestWindow = std::max(longestWindow, w.last.back() - w.first.back() + 1);
             }
         }
     }
 };
 
-// Per-thread storage for one line group at a time; lane l of entry e at e kLanes + l.
+// Per-thread storage for one line group at a time; lane l of entry e at e width + l, width the
+// kernel's group width.
 struct GroupWork {
     std::vector<float> tan[2];  // the result per side: step k
     std::vector<float> z;       // the samples
-    std::vector<float> prefix;  // (t, z) per slot [1, size]: a block's samples from its first
-    std::vector<float> suffix;  // (t, z) per slot [1, size]: a block's samples from its last, backwards
+    std::vector<float> hull;    // (t, z) per slot [1, size]
+    // Per sample, the highest sample from its block's first (of DirectionPlan::longestWindow samples),
+    // and to its block's last; per run of kRun samples, its highest.
+    std::vector<float> highestFromBlockStart;
+    std::vector<float> highestToBlockEnd;
+    std::vector<float> runHighest;
 };
 
-// The near field of the group's texels at every step k into tan: tan h >= 0 over distances up to
-// kNear steps (or R).
-template <bool kAvx2>
-[[gnu::always_inline]] inline void nearFieldOfGroup(const float* zmap, const DirectionPlan& plan,
-                                                    const NearStencil& stencil, float* tan) {
-    const float cMajor = stencil.coefMajor;
-    const float cMinor = stencil.coefMinor;
-    for (int k = 0; k < plan.sizeA; ++k) {
-        const float* p = zmap + plan.texelIndex[static_cast<std::size_t>(k)];
-        const Floats zP = load(p);
-        Floats best =
-            max(cMajor * (load(p + stencil.aheadOffset) - zP) + cMinor * (load(p + stencil.sideOffset) - zP),
-                Floats{});
-        for (const NearSegment& s : stencil.segments) {
-            const float* c = p + s.offset;
-            const Floats c00 = load(c);
-            const Floats c10 = load(c + stencil.majorOffset);
-            const Floats c01 = load(c + 1);
-            const Floats c11 = load(c + stencil.majorOffset + 1);
-            const Floats du = c10 - c00;
-            const Floats dv = c01 - c00;
-            const Floats e = c00 - c10 - c01 + c11;
-            const Floats z1 = c00 + du * s.alpha1 + dv * s.beta1 + e * s.alpha1 * s.beta1;
-            best = max(best, (z1 - zP) * s.invT1);
-            if (s.t0 <= 0.0f) continue;  // the segment from P itself: only its end (the start is the slope)
-            // Inside the cell the relief along the line is z(t) = qa + qb t + qc t^2 with
-            // qc = e dA dB / (t1 - t0)^2; its elevation (z - zP) / t peaks where qc t^2 = qa - zP, when
-            // that t lies inside the segment and the arc is concave: raiseByArcInterior's formula
-            // (horizon_line.h), branch-free across the lanes.
-            const float t0 = s.t0;
-            const float t1 = s.t1;
-            const float invLength = s.invLength;
-            const Floats z0 = c00 + du * s.alpha0 + dv * s.beta0 + e * s.alpha0 * s.beta0;
-            const Floats qc = e * s.twist;
-            const Floats qb = (z1 - z0) * invLength - qc * (t0 + t1);
-            const Floats qa = z0 - qb * t0 - qc * (t0 * t0);
-            // t0^2 < (qa - zP) / qc < t1^2 with qc < 0, multiplied out: no division in the usual case, where
-            // no lane's peak is inside. The divisor and the root are kept finite where it is not used.
-            const Floats rise = qa - zP;
-            const Ints inside = (qc < 0.0f) & (rise < qc * (t0 * t0)) & (rise > qc * (t1 * t1));
-            if (!any<kAvx2>(inside)) continue;
-            const Floats ratio = rise / min(qc, splat(-1e-30f));
-            Floats tm = min(max(ratio, splat(t0 * t0)), splat(t1 * t1));
-            for (int l = 0; l < kLanes; ++l) tm[l] = std::sqrt(tm[l]);
-            const Floats peak = (qa + qb * tm + qc * tm * tm - zP) / tm;
-            best = inside ? max(best, peak) : best;
-        }
-        store(tan + static_cast<std::ptrdiff_t>(k) * kLanes, best);
-    }
+namespace lanes8 {
+// SSE2 (the baseline ISA) or AVX2: one AVX2 register of floats.
+constexpr int kLanes = 8;
+using Floats = float __attribute__((vector_size(kLanes * sizeof(float))));
+using Ints = std::int32_t __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
+using Words = long long __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
+constexpr Ints kLaneIndex = {0, 1, 2, 3, 4, 5, 6, 7};
+
+// Whether any lane is set. kNative: one VPTEST, in code that only runs inside a function compiled for
+// AVX2 (the builtin, unlike its intrinsic, may sit in a function inlined into one).
+template <bool kNative>
+[[gnu::always_inline]] inline bool any(Ints mask) {
+    const auto w = std::bit_cast<Words>(mask);
+#ifdef STRATA_SWEEP_X86
+    if constexpr (kNative) return !__builtin_ia32_ptestz256(w, w);
+#endif
+    return ((w[0] | w[1]) | (w[2] | w[3])) != 0;
 }
 
-// Whether b lies higher than a as seen from q: above the line from a to q when q lies after both in
-// t (side 0), or before both (side 1).
-template <int kSide>
-[[gnu::always_inline]] inline Ints seesHigher(const Points& q, const Points& a, const Points& b) {
-    return (kSide == 0 ? orient(a, q, b) : orient(b, q, a)) > 0.0f;
-}
-
-// The vertex of each lane's upper hull (slots [1, size], in order along the hull, all on one side of
-// q in t) that q sees highest, i.e. the tangent from q; guess is the previous answer. The elevation is
-// unimodal along the hull, so a local search from there finds it. Both neighbours of the guess are
-// read at once: most searches end there.
-template <bool kAvx2, int kSide>
-[[gnu::always_inline]] inline Points tangent(const float* hull, Ints size, Ints& guess, const Points& q) {
-    Ints c = min(max(guess, Ints{} + 1), size);
-    const Ints s = slot(c);
-    Points at = gather(hull, s);
-    const Points next = gather(hull, s + kLanes);
-    const Points previous = gather(hull, s - kLanes);
-    const Ints up = (c < size) & seesHigher<kSide>(q, at, next);
-    const Ints down = (c > 1) & seesHigher<kSide>(q, at, previous);
-    if (any<kAvx2>(up | down)) {
-        c += down - up;
-        at = select(up, next, select(down, previous, at));
-        for (Ints moving = up; any<kAvx2>(moving);) {
-            const Points candidate = gather(hull, slot(c + 1));
-            moving &= (c < size) & seesHigher<kSide>(q, at, candidate);
-            c -= moving;
-            at = select(moving, candidate, at);
-        }
-        for (Ints moving = down; any<kAvx2>(moving);) {
-            const Points candidate = gather(hull, slot(c - 1));
-            moving &= (c > 1) & seesHigher<kSide>(q, at, candidate);
-            c += moving;
-            at = select(moving, candidate, at);
-        }
-    }
-    guess = c;
-    return at;
-}
-
-// Each lane's upper hull on a stack, slot d at d kLanes + lane, with its top three slots also in
-// registers: the slot under them is read one pop ahead, so that the read is not on the path that
-// decides whether to pop again.
-struct HullStack {
-    float* points;
-    Ints size{};
-    Points top{};  // slots size, size - 1, size - 2
-    Points below{};
-    Points under{};
+// A point of each lane's profile.
+struct Points {
+    Floats t;
+    Floats z;
 };
-
-// Pushes p (after every point of the stack in t when forward, before when not), popping what it hides.
-template <bool kAvx2, bool kForward>
-[[gnu::always_inline]] inline void push(HullStack& h, const Points& p) {
-    for (;;) {
-        const Floats o = kForward ? orient(h.below, h.top, p) : orient(p, h.top, h.below);
-        const Ints pop = (h.size >= 2) & (o >= 0.0f);
-        if (!any<kAvx2>(pop)) break;
-        h.size += pop;
-        h.top = select(pop, h.below, h.top);
-        h.below = select(pop, h.under, h.below);
-        const Ints s = slot(max(h.size - 2, Ints{}));
-        h.under = select(pop, gather(h.points, s), h.under);
+// Stacks hold (t, z) pairs, so that reading a lane's point is one 8-byte load: entry e of lane l at
+// 2 (e kLanes + l). Lanes 0, 1, 4, 5 are read into one register and 2, 3, 6, 7 into another, so that
+// one shuffle within 128-bit halves (SHUFPS) splits them into t and z in lane order. (Hardware gathers
+// are no faster on the CPUs measured.)
+using Pairs = double __attribute__((vector_size(kLanes * sizeof(float))));
+constexpr int kPairLane[2][kLanes / 2] = {{0, 1, 4, 5}, {2, 3, 6, 7}};
+constexpr Ints kFirstOfPair = {0, 2, 8, 10, 4, 6, 12, 14};
+constexpr Ints kPairOfLow = {0, 8, 1, 9, 4, 12, 5, 13};  // (t, z) of lanes 0, 1, 4, 5
+constexpr Ints kPairOfHigh = {2, 10, 3, 11, 6, 14, 7, 15};
+[[gnu::always_inline]] inline Points gather(const float* pairs, Ints index) {
+    Pairs low;
+    Pairs high;
+    for (int l = 0; l < kLanes / 2; ++l) {
+        std::memcpy(&low[l], pairs + 2 * index[kPairLane[0][l]], sizeof(double));
+        std::memcpy(&high[l], pairs + 2 * index[kPairLane[1][l]], sizeof(double));
     }
-    h.size += 1;
-    const Ints at = slot(h.size);
-    scatter(h.points, at, p);
-    h.under = h.below;
-    h.below = h.top;
-    h.top = p;
+    const auto a = std::bit_cast<Floats>(low);
+    const auto b = std::bit_cast<Floats>(high);
+    return {__builtin_shuffle(a, b, kFirstOfPair), __builtin_shuffle(a, b, kFirstOfPair + 1)};
 }
-
-// The texels of one side that query one hull: k, then on to end (forwards: k < end; backwards: k >= end).
-struct QueryRange {
-    int k = 0;
-    int end = 0;
-};
-
-// Raises each lane's tan (per side and step k: near field and the point at R) to its far field: the
-// samples of its window, between kNear steps and R away.
-template <bool kAvx2>
-[[gnu::always_inline]] inline void farFieldOfGroup(const float* zmap, const DirectionPlan& plan,
-                                                   GroupWork& work) {
-    const std::size_t count = plan.sampleT.size();
-    const std::size_t entries = (count + 2) * kLanes;
-    work.z.resize(count * kLanes);
-    work.prefix.resize(2 * entries);
-    work.suffix.resize(2 * entries);
-    float* z = work.z.data();
-    for (std::size_t s = 0; s < count; ++s) {
-        const float w = plan.sampleW[s];
-        store(z + s * kLanes,
-              (1.0f - w) * load(zmap + plan.sampleIndex0[s]) + w * load(zmap + plan.sampleIndex1[s]));
-    }
-    const auto zAt = [&](int s) { return load(z + static_cast<std::ptrdiff_t>(s) * kLanes); };
-    const auto sample = [&](int s) -> Points {
-        return {splat(plan.sampleT[static_cast<std::size_t>(s)]), zAt(s)};
-    };
-    const float* t = plan.sampleT.data();
-    const int* block = plan.sampleBlock.data();
-    const auto dt = static_cast<float>(plan.dir.dt);
-    const int sides = plan.paired ? 2 : 1;
-
-    // Every query's window ends in the block where it starts or the next. Block by block: forwards, the
-    // queries ending in it (its samples from its first up to their end, a prefix hull), then backwards
-    // those starting in it and ending in the next (its samples down to their start, a suffix hull).
-    // Each hull is only needed where some lane's bound (the part's highest sample at its nearest
-    // distance) beats what that lane has, so samples are pushed only when such a query comes.
-    QueryRange forward[2];
-    QueryRange backward[2];
-    int backwardStart[2] = {0, 0};  // per side, the first texel whose window starts in this block or later
-    const int blocks = static_cast<int>(plan.blockFirstSample.size()) - 1;
-    for (int b = 0; b < blocks; ++b) {
-        const int f0 = plan.blockFirstSample[static_cast<std::size_t>(b)];
-        const int f1 = plan.blockFirstSample[static_cast<std::size_t>(b + 1)];
-        {
-            HullStack prefix{work.prefix.data()};
-            Ints guess[2] = {Ints{} + 1, Ints{} + 1};
-            Floats highest = splat(-std::numeric_limits<float>::infinity());
-            int next = f0;  // the next sample to push
-            int scanned = f0;
-            for (int side = 0; side < sides; ++side) {
-                QueryRange& r = forward[side];
-                r.end = r.k;
-                while (r.end < plan.sizeA &&
-                       block[plan.sides[side].last[static_cast<std::size_t>(r.end)]] == b)
-                    ++r.end;
-            }
-            for (;;) {
-                // The side whose next window ends first.
-                int side = -1;
-                for (int s = 0; s < sides; ++s)
-                    if (forward[s].k < forward[s].end &&
-                        (side < 0 || plan.sides[s].last[static_cast<std::size_t>(forward[s].k)] <
-                                         plan.sides[side].last[static_cast<std::size_t>(forward[side].k)]))
-                        side = s;
-                if (side < 0) break;
-                const int k = forward[side].k++;
-                const auto kk = static_cast<std::size_t>(k);
-                const int first = plan.sides[side].first[kk];
-                const int last = plan.sides[side].last[kk];
-                for (; scanned <= last; ++scanned) highest = max(highest, zAt(scanned));
-                const float tP = static_cast<float>(k) * dt;
-                const Floats zP = load(zmap + plan.texelIndex[kk]);
-                float* out = work.tan[side].data() + static_cast<std::ptrdiff_t>(k) * kLanes;
-                Floats best = load(out);
-                if (block[first] == b) {
-                    // The whole window lies in this block: its samples one by one.
-                    for (int s = first; s <= last; ++s)
-                        best = max(best, (zAt(s) - zP) / (side == 0 ? tP - t[s] : t[s] - tP));
-                } else if (any<kAvx2>((highest - zP) > best * (side == 0 ? tP - t[last] : t[f0] - tP))) {
-                    for (; next <= last; ++next) push<kAvx2, true>(prefix, sample(next));
-                    const Points q{splat(tP), zP};
-                    const Points h = side == 0 ? tangent<kAvx2, 0>(prefix.points, prefix.size, guess[0], q)
-                                               : tangent<kAvx2, 1>(prefix.points, prefix.size, guess[1], q);
-                    best = max(best, (h.z - zP) / (side == 0 ? tP - h.t : h.t - tP));
-                }
-                store(out, best);
-            }
-        }
-        {
-            HullStack suffix{work.suffix.data()};
-            Ints guess[2] = {Ints{} + 1, Ints{} + 1};
-            Floats highest = splat(-std::numeric_limits<float>::infinity());
-            int pushed = f1;  // the hull holds [pushed, f1)
-            int scanned = f1;
-            for (int side = 0; side < sides; ++side) {
-                // Windows starting in this block and ending in the next, last first.
-                const DirectionPlan::Side& w = plan.sides[side];
-                const auto blockOf = [&](const std::vector<int>& samples, int k) {
-                    return block[samples[static_cast<std::size_t>(k)]];
-                };
-                int& k = backwardStart[side];
-                while (k < plan.sizeA && blockOf(w.first, k) < b) ++k;
-                int lowest = k;
-                while (lowest < plan.sizeA && blockOf(w.first, lowest) == b && blockOf(w.last, lowest) == b)
-                    ++lowest;
-                int beyond = lowest;
-                while (beyond < plan.sizeA && blockOf(w.first, beyond) == b) ++beyond;
-                backward[side] = {beyond - 1, lowest};
-            }
-            for (;;) {
-                // The side whose next window starts last.
-                int side = -1;
-                for (int s = 0; s < sides; ++s)
-                    if (backward[s].k >= backward[s].end &&
-                        (side < 0 || plan.sides[s].first[static_cast<std::size_t>(backward[s].k)] >
-                                         plan.sides[side].first[static_cast<std::size_t>(backward[side].k)]))
-                        side = s;
-                if (side < 0) break;
-                const int k = backward[side].k--;
-                const auto kk = static_cast<std::size_t>(k);
-                const int first = plan.sides[side].first[kk];
-                for (; scanned > first; --scanned) highest = max(highest, zAt(scanned - 1));
-                const float tP = static_cast<float>(k) * dt;
-                const Floats zP = load(zmap + plan.texelIndex[kk]);
-                float* out = work.tan[side].data() + static_cast<std::ptrdiff_t>(k) * kLanes;
-                const Floats best = load(out);
-                if (!any<kAvx2>((highest - zP) > best * (side == 0 ? tP - t[f1 - 1] : t[first] - tP)))
-                    continue;
-                for (; pushed > first; --pushed) push<kAvx2, false>(suffix, sample(pushed - 1));
-                const Points q{splat(tP), zP};
-                const Points h = side == 0 ? tangent<kAvx2, 0>(suffix.points, suffix.size, guess[0], q)
-                                           : tangent<kAvx2, 1>(suffix.points, suffix.size, guess[1], q);
-                store(out, max(best, (h.z - zP) / (side == 0 ? tP - h.t : h.t - tP)));
-            }
-        }
+[[gnu::always_inline]] inline void scatter(float* pairs, Ints index, const Points& p) {
+    const auto low = std::bit_cast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfLow));
+    const auto high = std::bit_cast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfHigh));
+    for (int l = 0; l < kLanes / 2; ++l) {
+        std::memcpy(pairs + 2 * index[kPairLane[0][l]], &low[l], sizeof(double));
+        std::memcpy(pairs + 2 * index[kPairLane[1][l]], &high[l], sizeof(double));
     }
 }
 
-// tan h of the texels of lines [j, j + kLanes) at every step k into work.tan[side] (lane l is line
-// j + l; lines past sizeB repeat the first ones and are computed, not used). With cosineWeights, each
-// result becomes the direction's term of the cosine-weighted AO instead, cos^2 h = 1 / (1 + tan^2 h),
-// computed here with the kernel's vector width.
-template <bool kAvx2>
-[[gnu::always_inline]] inline void horizonsOfGroup(const PaddedRelief& relief, const DirectionPlan& plan,
-                                                   int j, GroupWork& work, bool cosineWeights) {
-    const float* zmap = relief.data() + j;
-    const std::ptrdiff_t entries = static_cast<std::ptrdiff_t>(plan.sizeA) * kLanes;
-    for (int side = 0; side < (plan.paired ? 2 : 1); ++side) {
-        work.tan[side].resize(static_cast<std::size_t>(entries));
-        float* tan = work.tan[side].data();
-        nearFieldOfGroup<kAvx2>(zmap, plan, plan.near[static_cast<std::size_t>(side)], tan);
-        if (!plan.hasFar) continue;
-        // The point at exactly R.
-        const DirectionPlan::Side& w = plan.sides[side];
-        const auto radius = static_cast<float>(plan.radius);
-        for (int k = 0; k < plan.sizeA; ++k) {
-            const auto kk = static_cast<std::size_t>(k);
-            const float fr = w.boundaryFrac[kk];
-            const float alpha = w.boundaryAlpha[kk];
-            const float* c0 = zmap + w.boundaryIndex0[kk];
-            const float* c1 = zmap + w.boundaryIndex1[kk];
-            const Floats zR = (1.0f - alpha) * ((1.0f - fr) * load(c0) + fr * load(c0 + 1)) +
-                              alpha * ((1.0f - fr) * load(c1) + fr * load(c1 + 1));
-            float* out = tan + static_cast<std::ptrdiff_t>(k) * kLanes;
-            store(out, max(load(out), (zR - load(zmap + plan.texelIndex[kk])) / radius));
-        }
-    }
-    if (plan.hasFar) farFieldOfGroup<kAvx2>(zmap, plan, work);
-    if (cosineWeights)
-        for (int side = 0; side < (plan.paired ? 2 : 1); ++side)
-            for (std::ptrdiff_t e = 0; e < entries; e += kLanes) {
-                const Floats h = load(work.tan[side].data() + e);
-                store(work.tan[side].data() + e, 1.0f / (1.0f + h * h));
-            }
-}
-
-using GroupHorizons = void (*)(const PaddedRelief&, const DirectionPlan&, int, GroupWork&, bool);
+#include "sweep_kernel.h"
+}  // namespace lanes8
 
 void groupHorizonsPortable(const PaddedRelief& relief, const DirectionPlan& plan, int j, GroupWork& work,
                            bool cosineWeights) {
-    horizonsOfGroup<false>(relief, plan, j, work, cosineWeights);
+    lanes8::horizonsOfGroup<false>(relief, plan, j, work, cosineWeights);
 }
 
 #ifdef STRATA_SWEEP_X86
 __attribute__((target("avx2"))) void groupHorizonsAvx2(const PaddedRelief& relief, const DirectionPlan& plan,
                                                        int j, GroupWork& work, bool cosineWeights) {
-    horizonsOfGroup<true>(relief, plan, j, work, cosineWeights);
+    lanes8::horizonsOfGroup<true>(relief, plan, j, work, cosineWeights);
 }
+
+// AVX-512: 16 lanes in one register, hardware gathers and scatters. Everything defined in this region
+// is compiled for AVX-512, so that GCC keeps the 16-lane comparisons in mask registers (helpers compiled
+// for the baseline and inlined later would be split into scalar code); the standard library, defined
+// above it, is not, so no function that other code may share is built for AVX-512.
+#pragma GCC push_options
+#pragma GCC target("avx2,avx512f,avx512vl,avx512bw,avx512dq")
+namespace lanes16 {
+constexpr int kLanes = 16;
+using Floats = float __attribute__((vector_size(kLanes * sizeof(float))));
+using Ints = std::int32_t __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
+constexpr Ints kLaneIndex = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+
+template <bool>
+[[gnu::always_inline]] inline bool any(Ints mask) {
+    const auto m = std::bit_cast<__m512i>(mask);
+    return _mm512_test_epi32_mask(m, m) != 0;
+}
+
+struct Points {
+    Floats t;
+    Floats z;
+};
+// (t, z) pairs as in lanes8; lanes 0-7 are gathered as eight doubles, 8-15 as eight more, and one
+// two-source permute per component puts t and z in lane order.
+constexpr Ints kEven = {0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30};
+constexpr Ints kPairOfLow = {0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23};
+constexpr Ints kPairOfHigh = kPairOfLow + 8;
+using Indices = std::int32_t __attribute__((vector_size(8 * sizeof(std::int32_t))));
+using Doubles = double __attribute__((vector_size(8 * sizeof(double))));
+constexpr auto kAllEight = static_cast<__mmask8>(0xff);  // every one of eight elements
+// The builtins rather than _mm512_i32gather_pd, whose undefined source register GCC 12 reports as
+// maybe uninitialised.
+[[gnu::always_inline]] inline Doubles gather8(const float* pairs, Indices index) {
+    return __builtin_ia32_gathersiv8df(Doubles{}, pairs, index, kAllEight, 8);
+}
+[[gnu::always_inline]] inline Points gather(const float* pairs, Ints index) {
+    const auto a =
+        std::bit_cast<Floats>(gather8(pairs, __builtin_shufflevector(index, index, 0, 1, 2, 3, 4, 5, 6, 7)));
+    const auto b = std::bit_cast<Floats>(
+        gather8(pairs, __builtin_shufflevector(index, index, 8, 9, 10, 11, 12, 13, 14, 15)));
+    return {__builtin_shuffle(a, b, kEven), __builtin_shuffle(a, b, kEven + 1)};
+}
+[[gnu::always_inline]] inline void scatter(float* pairs, Ints index, const Points& p) {
+    __builtin_ia32_scattersiv8df(pairs, kAllEight,
+                                 __builtin_shufflevector(index, index, 0, 1, 2, 3, 4, 5, 6, 7),
+                                 std::bit_cast<Doubles>(__builtin_shuffle(p.t, p.z, kPairOfLow)), 8);
+    __builtin_ia32_scattersiv8df(pairs, kAllEight,
+                                 __builtin_shufflevector(index, index, 8, 9, 10, 11, 12, 13, 14, 15),
+                                 std::bit_cast<Doubles>(__builtin_shuffle(p.t, p.z, kPairOfHigh)), 8);
+}
+
+#include "sweep_kernel.h"
+}  // namespace lanes16
+
+void groupHorizonsAvx512(const PaddedRelief& relief, const DirectionPlan& plan, int j, GroupWork& work,
+                         bool cosineWeights) {
+    lanes16::horizonsOfGroup<true>(relief, plan, j, work, cosineWeights);
+}
+#pragma GCC pop_options
 #endif
 
-// AVX2 where the CPU has it, chosen at run time (the build targets the baseline ISA).
-GroupHorizons groupHorizons() {
+// A kernel and its group width.
+struct GroupKernel {
+    void (*horizons)(const PaddedRelief&, const DirectionPlan&, int, GroupWork&, bool);
+    int lanes;
+};
+GroupKernel groupKernel(SweepKernel kernel) {
+    if (kernel == SweepKernel::Auto)
+        kernel = sweepKernelRuns(SweepKernel::Avx512) ? SweepKernel::Avx512
+                 : sweepKernelRuns(SweepKernel::Avx2) ? SweepKernel::Avx2
+                                                      : SweepKernel::Portable;
+    if (!sweepKernelRuns(kernel))
+        throw Error(ErrorKind::InvalidInput,
+                    std::string("the sweep's ") + toString(kernel) + " kernel does not run on this CPU");
+    switch (kernel) {
 #ifdef STRATA_SWEEP_X86
-    if (__builtin_cpu_supports("avx2")) return groupHorizonsAvx2;
+        case SweepKernel::Avx512:
+            return {groupHorizonsAvx512, lanes16::kLanes};
+        case SweepKernel::Avx2:
+            return {groupHorizonsAvx2, lanes8::kLanes};
 #endif
-    return groupHorizonsPortable;
+        default:
+            return {groupHorizonsPortable, lanes8::kLanes};
+    }
 }
 
 // Runs the sweep for every direction and hands each line group's horizons to
-// sink(i, plan, j, lanes, tan): tan[k kLanes + l] is the horizon of line j + l (l < lanes) at step k in
+// sink(i, plan, j, lanes, width, tan): tan[k width + l] is the horizon of line j + l (l < lanes) at step k in
 // direction i (or with cosineWeights its cos^2 h), texel (plan.texelColumn[k], j + l + plan.texelRow[k],
 // minor wrapped) in (major, minor) coordinates. Every texel lies on exactly one line per direction, so
 // sinks of one direction never share a texel. With M even, directions i and i + M/2 are opposite:
-// the same lines, samples and hulls serve both.
+// the same lines and samples serve both. width is the kernel's group width (lanes <= width).
 template <typename Sink>
-void sweep(const Image& depth, const AoParams& params, bool cosineWeights, const Sink& sink) {
+void sweep(const Image& depth, const AoParams& params, SweepKernel which, bool cosineWeights,
+           const Sink& sink) {
     const auto scale = static_cast<float>(params.depthScale);
     const PaddedRelief byColumns(depth, true, scale);
     const PaddedRelief byRows(depth, false, scale);
     tbb::enumerable_thread_specific<GroupWork> works;
-    const GroupHorizons horizonsOfGroup = groupHorizons();
+    const GroupKernel kernel = groupKernel(which);
     const int m = params.directions;
     const bool paired = m % 2 == 0;
     for (int i = 0; i < (paired ? m / 2 : m); ++i) {
@@ -789,15 +517,15 @@ void sweep(const Image& depth, const AoParams& params, bool cosineWeights, const
         const PaddedRelief& relief = dir.xMajor ? byColumns : byRows;
         const DirectionPlan plan(dir, paired, relief, params.radius);
         const int sizeB = relief.sizeB();
-        const int groups = (sizeB + kLanes - 1) / kLanes;
+        const int groups = (sizeB + kernel.lanes - 1) / kernel.lanes;
         tbb::parallel_for(tbb::blocked_range<int>(0, groups), [&](const tbb::blocked_range<int>& range) {
             GroupWork& work = works.local();
             for (int g = range.begin(); g != range.end(); ++g) {
-                const int j = g * kLanes;
-                const int lanes = std::min(kLanes, sizeB - j);
-                horizonsOfGroup(relief, plan, j, work, cosineWeights);
-                sink(i, plan, j, lanes, work.tan[0].data());
-                if (paired) sink(i + m / 2, plan, j, lanes, work.tan[1].data());
+                const int j = g * kernel.lanes;
+                const int lanes = std::min(kernel.lanes, sizeB - j);
+                kernel.horizons(relief, plan, j, work, cosineWeights);
+                sink(i, plan, j, lanes, kernel.lanes, work.tan[0].data());
+                if (paired) sink(i + m / 2, plan, j, lanes, kernel.lanes, work.tan[1].data());
             }
         });
     }
@@ -819,7 +547,38 @@ inline void forEachTexel(const DirectionPlan& plan, int j, int lanes, int k, con
 
 }  // namespace
 
-HorizonMap sweepHorizons(const Image& depth, const AoParams& params) {
+bool sweepKernelRuns(SweepKernel kernel) {
+    switch (kernel) {
+        case SweepKernel::Auto:
+        case SweepKernel::Portable:
+            return true;
+#ifdef STRATA_SWEEP_X86
+        case SweepKernel::Avx2:
+            return __builtin_cpu_supports("avx2");
+        case SweepKernel::Avx512:
+            return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+                   __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq");
+#endif
+        default:
+            return false;
+    }
+}
+
+const char* toString(SweepKernel kernel) {
+    switch (kernel) {
+        case SweepKernel::Auto:
+            return "auto";
+        case SweepKernel::Portable:
+            return "portable";
+        case SweepKernel::Avx2:
+            return "avx2";
+        case SweepKernel::Avx512:
+            return "avx512";
+    }
+    return "unknown";
+}
+
+HorizonMap sweepHorizons(const Image& depth, const AoParams& params, SweepKernel kernel) {
     const int w = depth.width();
     const int m = params.directions;
     HorizonMap result;
@@ -831,49 +590,50 @@ HorizonMap sweepHorizons(const Image& depth, const AoParams& params) {
     result.tanHorizon.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(depth.height()) *
                              static_cast<std::size_t>(m));
     const auto dirs = static_cast<std::size_t>(m);
-    sweep(depth, params, false, [&](int i, const DirectionPlan& plan, int j, int lanes, const float* tan) {
-        for (int k = 0; k < plan.sizeA; ++k) {
-            const float* tk = tan + static_cast<std::ptrdiff_t>(k) * kLanes;
-            forEachTexel(plan, j, lanes, k, [&](std::size_t index, int l) {
-                // index = a sizeB + b; the map is row-major in (x, y).
-                const std::size_t a = index / static_cast<std::size_t>(plan.sizeB);
-                const std::size_t b = index % static_cast<std::size_t>(plan.sizeB);
-                const std::size_t x = plan.dir.xMajor ? a : b;
-                const std::size_t y = plan.dir.xMajor ? b : a;
-                result
-                    .tanHorizon[(y * static_cast<std::size_t>(w) + x) * dirs + static_cast<std::size_t>(i)] =
-                    tk[l];
-            });
-        }
-    });
+    sweep(depth, params, kernel, false,
+          [&](int i, const DirectionPlan& plan, int j, int lanes, int width, const float* tan) {
+              for (int k = 0; k < plan.sizeA; ++k) {
+                  const float* tk = tan + static_cast<std::ptrdiff_t>(k) * width;
+                  forEachTexel(plan, j, lanes, k, [&](std::size_t index, int l) {
+                      // index = a sizeB + b; the map is row-major in (x, y).
+                      const std::size_t a = index / static_cast<std::size_t>(plan.sizeB);
+                      const std::size_t b = index % static_cast<std::size_t>(plan.sizeB);
+                      const std::size_t x = plan.dir.xMajor ? a : b;
+                      const std::size_t y = plan.dir.xMajor ? b : a;
+                      result.tanHorizon[(y * static_cast<std::size_t>(w) + x) * dirs +
+                                        static_cast<std::size_t>(i)] = tk[l];
+                  });
+              }
+          });
     return result;
 }
 
-Image sweepAo(const Image& depth, const AoParams& params) {
+Image sweepAo(const Image& depth, const AoParams& params, SweepKernel kernel) {
     const int w = depth.width();
     const int h = depth.height();
     // Directions with x major add into byColumns (column x, along y); the others into byRows (row y,
     // along x): the (major, minor) layout of each.
     std::vector<float> byColumns(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0.0f);
     std::vector<float> byRows(byColumns.size(), 0.0f);
-    sweep(depth, params, true, [&](int, const DirectionPlan& plan, int j, int lanes, const float* weight) {
-        float* sum = plan.dir.xMajor ? byColumns.data() : byRows.data();
-        for (int k = 0; k < plan.sizeA; ++k) {
-            const float* wk = weight + static_cast<std::ptrdiff_t>(k) * kLanes;
-            const auto kk = static_cast<std::size_t>(k);
-            int row = j + plan.texelRow[kk];
-            if (row >= plan.sizeB) row -= plan.sizeB;
-            if (lanes == kLanes && row + kLanes <= plan.sizeB) {
-                float* out =
-                    sum +
-                    static_cast<std::size_t>(plan.texelColumn[kk]) * static_cast<std::size_t>(plan.sizeB) +
-                    static_cast<std::size_t>(row);
-                for (int l = 0; l < kLanes; ++l) out[l] += wk[l];
-            } else {
-                forEachTexel(plan, j, lanes, k, [&](std::size_t index, int l) { sum[index] += wk[l]; });
-            }
-        }
-    });
+    sweep(depth, params, kernel, true,
+          [&](int, const DirectionPlan& plan, int j, int lanes, int width, const float* weight) {
+              float* sum = plan.dir.xMajor ? byColumns.data() : byRows.data();
+              for (int k = 0; k < plan.sizeA; ++k) {
+                  const float* wk = weight + static_cast<std::ptrdiff_t>(k) * width;
+                  const auto kk = static_cast<std::size_t>(k);
+                  int row = j + plan.texelRow[kk];
+                  if (row >= plan.sizeB) row -= plan.sizeB;
+                  if (lanes == width && row + width <= plan.sizeB) {
+                      float* out = sum +
+                                   static_cast<std::size_t>(plan.texelColumn[kk]) *
+                                       static_cast<std::size_t>(plan.sizeB) +
+                                   static_cast<std::size_t>(row);
+                      for (int l = 0; l < width; ++l) out[l] += wk[l];
+                  } else {
+                      forEachTexel(plan, j, lanes, k, [&](std::size_t index, int l) { sum[index] += wk[l]; });
+                  }
+              }
+          });
     // The mean, divided once at the end: a fully open texel sums to exactly M and gives exactly 1.
     Image ao(w, h, 1, 0.0f);
     const auto directions = static_cast<float>(params.directions);

@@ -1,0 +1,316 @@
+// Internal: the sweep's SIMD kernel for one line group, written once for any lane count. It is included
+// by sweep_horizons.cpp inside a namespace per lane width (8 for SSE2 / AVX2, 16 for AVX-512, the
+// latter inside a `#pragma GCC target` region), after that namespace has defined:
+//   kLanes, Floats and Ints (GCC vector types of kLanes lanes), kLaneIndex = {0, 1, ..., kLanes - 1},
+//   struct Points { Floats t, z; }, any<kNative>(Ints) (whether any lane is set),
+//   gather(const float*, Ints) / scatter(float*, Ints, const Points&) of (t, z) at hull slots,
+// and after DirectionPlan, NearStencil, PaddedRelief, GroupWork, kNear and kRun. No include guard, and
+// no includes of its own: the file including it has them all.
+// NOLINTBEGIN(llvm-header-guard)
+
+[[gnu::always_inline]] inline Floats load(const float* p) {
+    Floats v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+[[gnu::always_inline]] inline void store(float* p, Floats v) {
+    std::memcpy(p, &v, sizeof v);
+}
+[[gnu::always_inline]] inline Floats splat(float x) {
+    return Floats{} + x;
+}
+[[gnu::always_inline]] inline Floats max(Floats a, Floats b) {
+    return a > b ? a : b;
+}
+[[gnu::always_inline]] inline Floats min(Floats a, Floats b) {
+    return a < b ? a : b;
+}
+[[gnu::always_inline]] inline Ints max(Ints a, Ints b) {
+    return a > b ? a : b;
+}
+[[gnu::always_inline]] inline Ints min(Ints a, Ints b) {
+    return a < b ? a : b;
+}
+// The stack slot d of every lane: (t, z) pairs, lane l of slot d at 2 (d kLanes + l).
+[[gnu::always_inline]] inline Ints slot(Ints d) {
+    return d * kLanes + kLaneIndex;
+}
+[[gnu::always_inline]] inline Points select(Ints mask, const Points& a, const Points& b) {
+    return {mask ? a.t : b.t, mask ? a.z : b.z};
+}
+// > 0 where c lies above the line through a and b (a.t < b.t).
+[[gnu::always_inline]] inline Floats orient(const Points& a, const Points& b, const Points& c) {
+    return (b.t - a.t) * (c.z - a.z) - (b.z - a.z) * (c.t - a.t);
+}
+
+// The near field of the group's texels at every step k into tan: tan h >= 0 over distances up to
+// kNear steps (or R).
+template <bool kNative>
+[[gnu::always_inline]] inline void nearFieldOfGroup(const float* zmap, const DirectionPlan& plan,
+                                                    const NearStencil& stencil, float* tan) {
+    const float cMajor = stencil.coefMajor;
+    const float cMinor = stencil.coefMinor;
+    for (int k = 0; k < plan.sizeA; ++k) {
+        const float* p = zmap + plan.texelIndex[static_cast<std::size_t>(k)];
+        const Floats zP = load(p);
+        Floats best =
+            max(cMajor * (load(p + stencil.aheadOffset) - zP) + cMinor * (load(p + stencil.sideOffset) - zP),
+                Floats{});
+        Floats z0 = zP;  // where the segment starts: the previous one's end
+        for (const NearSegment& s : stencil.segments) {
+            const float* c = p + s.offset;
+            const Floats c00 = load(c);
+            const Floats c10 = load(c + stencil.majorOffset);
+            const Floats c01 = load(c + 1);
+            const Floats c11 = load(c + stencil.majorOffset + 1);
+            const Floats e = (c00 - c10) - (c01 - c11);
+            const Floats z1 = c00 + (c10 - c00) * s.alpha1 + ((c01 - c00) + e * s.alpha1) * s.beta1;
+            best = max(best, (z1 - zP) * s.invT1);
+            if (s.t0 > 0.0f) {
+                // Inside the cell the relief along the line is z(t) = qa + qb t + qc t^2 with
+                // qc = e dA dB / (t1 - t0)^2; its elevation (z - zP) / t peaks where qc t^2 = qa - zP, when
+                // that t lies inside the segment and the arc is concave: raiseByArcInterior's formula
+                // (horizon_line.h), branch-free across the lanes.
+                const float t0 = s.t0;
+                const float t1 = s.t1;
+                const Floats qc = e * s.twist;
+                const Floats qb = (z1 - z0) * s.invLength - qc * (t0 + t1);
+                // t0^2 < (qa - zP) / qc < t1^2 with qc < 0, multiplied out: no division in the usual case,
+                // where no lane's peak is inside. The divisor and the root are kept finite where unused.
+                const Floats rise = z0 - qb * t0 - qc * (t0 * t0) - zP;
+                const Ints inside = (qc < 0.0f) & (rise < qc * (t0 * t0)) & (rise > qc * (t1 * t1));
+                if (any<kNative>(inside)) {
+                    const Floats ratio = rise / min(qc, splat(-1e-30f));
+                    Floats tm = min(max(ratio, splat(t0 * t0)), splat(t1 * t1));
+                    for (int l = 0; l < kLanes; ++l) tm[l] = std::sqrt(tm[l]);
+                    const Floats peak = (rise + qb * tm + qc * tm * tm) / tm;
+                    best = inside ? max(best, peak) : best;
+                }
+            }
+            z0 = z1;
+        }
+        store(tan + static_cast<std::ptrdiff_t>(k) * kLanes, best);
+    }
+}
+
+// Whether b lies higher than a as seen from q: above the line from a to q when q lies after both in
+// t (side 0), or before both (side 1).
+template <int kSide>
+[[gnu::always_inline]] inline Ints seesHigher(const Points& q, const Points& a, const Points& b) {
+    return (kSide == 0 ? orient(a, q, b) : orient(b, q, a)) > 0.0f;
+}
+
+// The vertex of each lane's upper hull (slots [1, size], in order along the hull, all on one side of
+// q in t) that q sees highest, i.e. the tangent from q; guess is the previous answer. The elevation is
+// unimodal along the hull, so a local search from there finds it. Both neighbours of the guess are
+// read at once: most searches end there.
+template <bool kNative, int kSide>
+[[gnu::always_inline]] inline Points tangent(const float* hull, Ints size, Ints& guess, const Points& q) {
+    Ints c = min(max(guess, Ints{} + 1), size);
+    const Ints s = slot(c);
+    Points at = gather(hull, s);
+    const Points next = gather(hull, s + kLanes);
+    const Points previous = gather(hull, s - kLanes);
+    const Ints up = (c < size) & seesHigher<kSide>(q, at, next);
+    const Ints down = (c > 1) & seesHigher<kSide>(q, at, previous);
+    if (any<kNative>(up | down)) {
+        c += down - up;
+        at = select(up, next, select(down, previous, at));
+        for (Ints moving = up; any<kNative>(moving);) {
+            const Points candidate = gather(hull, slot(c + 1));
+            moving &= (c < size) & seesHigher<kSide>(q, at, candidate);
+            c -= moving;
+            at = select(moving, candidate, at);
+        }
+        for (Ints moving = down; any<kNative>(moving);) {
+            const Points candidate = gather(hull, slot(c - 1));
+            moving &= (c > 1) & seesHigher<kSide>(q, at, candidate);
+            c += moving;
+            at = select(moving, candidate, at);
+        }
+    }
+    guess = c;
+    return at;
+}
+
+// Each lane's upper hull on a stack, slot d at d kLanes + lane, with its top three slots also in
+// registers: the slot under them is read one pop ahead, so that the read is not on the path that
+// decides whether to pop again.
+struct HullStack {
+    float* points;
+    Ints size{};
+    Points top{};  // slots size, size - 1, size - 2
+    Points below{};
+    Points under{};
+};
+
+// Pushes p (after every point of the stack in t when forward, before when not), popping what it hides.
+template <bool kNative, bool kForward>
+[[gnu::always_inline]] inline void push(HullStack& h, const Points& p) {
+    for (;;) {
+        const Floats o = kForward ? orient(h.below, h.top, p) : orient(p, h.top, h.below);
+        const Ints pop = (h.size >= 2) & (o >= 0.0f);
+        if (!any<kNative>(pop)) break;
+        h.size += pop;
+        h.top = select(pop, h.below, h.top);
+        h.below = select(pop, h.under, h.below);
+        const Ints s = slot(max(h.size - 2, Ints{}));
+        h.under = select(pop, gather(h.points, s), h.under);
+    }
+    h.size += 1;
+    const Ints at = slot(h.size);
+    scatter(h.points, at, p);
+    h.under = h.below;
+    h.below = h.top;
+    h.top = p;
+}
+
+// One side's far field at every step k of the line group: the highest elevation over the samples of its
+// window (first..last in DirectionPlan::Side: between kNear steps and R away), raising tan. Side 0
+// pushes the line's samples onto one upper hull from its first and its texels ask in order of k; side 1
+// pushes them from the last and asks from the last texel (Timonen & Westerholm's sweep, one hull per
+// side). A hull holds every sample from the line's start up to the window's near end, so its tangent
+// from the texel is the highest sample over the window and beyond R:
+// - inside the window, it is the window's answer;
+// - beyond R and no higher than tan h, nothing in the window can raise tan h either;
+// - beyond R and higher (about 2 % of the texels at R = 1 tile; more where R is short, but then the
+//   window is short), the lane reads the window itself, nearest first, in runs of kRun samples, and
+//   skips every run whose highest sample at its nearest distance cannot beat what the lane has.
+// Texels whose window's highest sample, at its nearest distance, cannot raise tan h skip the hull.
+template <bool kNative, int kSide>
+[[gnu::always_inline]] inline void farFieldOfSide(const float* zmap, const DirectionPlan& plan,
+                                                  GroupWork& work, int blockLength) {
+    const float* z = work.z.data();
+    const auto zAt = [&](int s) { return load(z + static_cast<std::ptrdiff_t>(s) * kLanes); };
+    const float* t = plan.sampleT.data();
+    const auto dt = static_cast<float>(plan.dir.dt);
+    const DirectionPlan::Side& w = plan.sides[kSide];
+    HullStack hull{work.hull.data()};
+    Ints guess = Ints{} + 1;
+    int next = kSide == 0 ? 0 : static_cast<int>(plan.sampleT.size()) - 1;  // the next sample to push
+    for (int i = 0; i < plan.sizeA; ++i) {
+        const int k = kSide == 0 ? i : plan.sizeA - 1 - i;
+        const auto kk = static_cast<std::size_t>(k);
+        const int first = w.first[kk];
+        const int last = w.last[kk];
+        const float tP = static_cast<float>(k) * dt;
+        const Floats zP = load(zmap + plan.texelIndex[kk]);
+        float* out = work.tan[kSide].data() + static_cast<std::ptrdiff_t>(k) * kLanes;
+        Floats best = load(out);
+        // The window's highest sample, or a bound on it when the window lies inside one block.
+        const Floats highest =
+            first / blockLength == last / blockLength
+                ? load(work.highestFromBlockStart.data() + static_cast<std::ptrdiff_t>(last) * kLanes)
+                : max(load(work.highestToBlockEnd.data() + static_cast<std::ptrdiff_t>(first) * kLanes),
+                      load(work.highestFromBlockStart.data() + static_cast<std::ptrdiff_t>(last) * kLanes));
+        const Ints open = (highest - zP) > best * (kSide == 0 ? tP - t[last] : t[first] - tP);
+        if (!any<kNative>(open)) continue;
+        if constexpr (kSide == 0) {
+            for (; next <= last; ++next) push<kNative, true>(hull, {splat(t[next]), zAt(next)});
+        } else {
+            for (; next >= first; --next) push<kNative, false>(hull, {splat(t[next]), zAt(next)});
+        }
+        const Points h = tangent<kNative, kSide>(hull.points, hull.size, guess, {splat(tP), zP});
+        const Floats elevation = (h.z - zP) / (kSide == 0 ? tP - h.t : h.t - tP);
+        const Ints beyond = kSide == 0 ? h.t < t[first] : h.t > t[last];
+        const Ints raises = elevation > best;
+        const Ints unsure = beyond & raises & open;
+        best = (raises & ~beyond) ? elevation : best;
+        if (any<kNative>(unsure)) {
+            Floats found = best;
+            const float* runHighest = work.runHighest.data();
+            for (int r = (kSide == 0 ? last : first) / kRun;; r += kSide == 0 ? -1 : 1) {
+                const int s0 = std::max(r * kRun, first);
+                const int s1 = std::min(r * kRun + kRun - 1, last);
+                const float nearest = kSide == 0 ? tP - t[s1] : t[s0] - tP;
+                if (any<kNative>(unsure & ((load(runHighest + static_cast<std::ptrdiff_t>(r) * kLanes) - zP) >
+                                           found * nearest)))
+                    for (int s = s0; s <= s1; ++s)
+                        found = max(found, (zAt(s) - zP) / (kSide == 0 ? tP - t[s] : t[s] - tP));
+                if (r == (kSide == 0 ? first : last) / kRun) break;
+            }
+            best = unsure ? found : best;
+        }
+        store(out, best);
+    }
+}
+
+// Raises each lane's tan (per side and step k: near field and the point at R) to its far field.
+template <bool kNative>
+[[gnu::always_inline]] inline void farFieldOfGroup(const float* zmap, const DirectionPlan& plan,
+                                                   GroupWork& work) {
+    const std::size_t count = plan.sampleT.size();
+    work.z.resize(count * kLanes);
+    work.hull.resize(2 * (count + 2) * kLanes);
+    float* z = work.z.data();
+    // Per sample, the highest from the start of its block of blockLength samples and to the block's
+    // end: a window (at most blockLength samples) lies in one block or two. Per run of kRun samples, its
+    // highest.
+    work.highestFromBlockStart.resize(count * kLanes);
+    work.highestToBlockEnd.resize(count * kLanes);
+    const int blockLength = plan.longestWindow;
+    const auto block = static_cast<std::size_t>(blockLength);
+    Floats highest{};
+    for (std::size_t s = 0; s < count; ++s) {
+        const float w = plan.sampleW[s];
+        const Floats zs =
+            (1.0f - w) * load(zmap + plan.sampleIndex0[s]) + w * load(zmap + plan.sampleIndex1[s]);
+        store(z + s * kLanes, zs);
+        highest = s % block == 0 ? zs : max(highest, zs);
+        store(work.highestFromBlockStart.data() + s * kLanes, highest);
+    }
+    for (std::size_t s = count; s-- > 0;) {
+        const Floats zs = load(z + s * kLanes);
+        highest = s + 1 == count || (s + 1) % block == 0 ? zs : max(highest, zs);
+        store(work.highestToBlockEnd.data() + s * kLanes, highest);
+    }
+    const auto run = static_cast<std::size_t>(kRun);
+    work.runHighest.resize((count / run + 1) * kLanes);
+    for (std::size_t s = 0; s < count; s += run) {
+        Floats m = load(z + s * kLanes);
+        for (std::size_t i = s + 1; i < std::min(count, s + run); ++i) m = max(m, load(z + i * kLanes));
+        store(work.runHighest.data() + s / run * kLanes, m);
+    }
+    farFieldOfSide<kNative, 0>(zmap, plan, work, blockLength);
+    if (plan.paired) farFieldOfSide<kNative, 1>(zmap, plan, work, blockLength);
+}
+
+// tan h of the texels of lines [j, j + kLanes) at every step k into work.tan[side] (lane l is line
+// j + l; lines past sizeB repeat the first ones and are computed, not used). With cosineWeights, each
+// result becomes the direction's term of the cosine-weighted AO instead, cos^2 h = 1 / (1 + tan^2 h),
+// computed here with the kernel's vector width.
+template <bool kNative>
+[[gnu::always_inline]] inline void horizonsOfGroup(const PaddedRelief& relief, const DirectionPlan& plan,
+                                                   int j, GroupWork& work, bool cosineWeights) {
+    const float* zmap = relief.data() + j;
+    const std::ptrdiff_t entries = static_cast<std::ptrdiff_t>(plan.sizeA) * kLanes;
+    for (int side = 0; side < (plan.paired ? 2 : 1); ++side) {
+        work.tan[side].resize(static_cast<std::size_t>(entries));
+        float* tan = work.tan[side].data();
+        nearFieldOfGroup<kNative>(zmap, plan, plan.near[static_cast<std::size_t>(side)], tan);
+        if (!plan.hasFar) continue;
+        // The point at exactly R.
+        const DirectionPlan::Side& w = plan.sides[side];
+        const auto radius = static_cast<float>(plan.radius);
+        for (int k = 0; k < plan.sizeA; ++k) {
+            const auto kk = static_cast<std::size_t>(k);
+            const float fr = w.boundaryFrac[kk];
+            const float alpha = w.boundaryAlpha[kk];
+            const float* c0 = zmap + w.boundaryIndex0[kk];
+            const float* c1 = zmap + w.boundaryIndex1[kk];
+            const Floats zR = (1.0f - alpha) * ((1.0f - fr) * load(c0) + fr * load(c0 + 1)) +
+                              alpha * ((1.0f - fr) * load(c1) + fr * load(c1 + 1));
+            float* out = tan + static_cast<std::ptrdiff_t>(k) * kLanes;
+            store(out, max(load(out), (zR - load(zmap + plan.texelIndex[kk])) / radius));
+        }
+    }
+    if (plan.hasFar) farFieldOfGroup<kNative>(zmap, plan, work);
+    if (cosineWeights)
+        for (int side = 0; side < (plan.paired ? 2 : 1); ++side)
+            for (std::ptrdiff_t e = 0; e < entries; e += kLanes) {
+                const Floats h = load(work.tan[side].data() + e);
+                store(work.tan[side].data() + e, 1.0f / (1.0f + h * h));
+            }
+}
+
+// NOLINTEND(llvm-header-guard)
