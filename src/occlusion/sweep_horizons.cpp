@@ -336,8 +336,8 @@ struct GroupWork {
     std::vector<float> tan[2];  // the result per side: step k
     std::vector<float> z;       // the samples
     std::vector<float> hull;    // (t, z) per slot [1, size]
-    // Per sample, the highest sample from its block's first (of DirectionPlan::longestWindow samples),
-    // and to its block's last; per run of kRun samples, its highest.
+    // Per run of kRun samples: its highest sample, the highest from its block's first run, and to its
+    // block's last (blocks of DirectionPlan::longestWindow / kRun + 2 runs).
     std::vector<float> highestFromBlockStart;
     std::vector<float> highestToBlockEnd;
     std::vector<float> runHighest;

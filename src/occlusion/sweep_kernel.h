@@ -116,32 +116,42 @@ template <bool kNative, int kSide>
     if (any<kNative>(up | down)) {
         c += down - up;
         at = select(up, next, select(down, previous, at));
+        // Two slots a step: both reads are issued before either comparison.
         for (Ints moving = up; any<kNative>(moving);) {
-            const Points candidate = gather(hull, slot(c + 1));
-            moving &= (c < size) & seesHigher<kSide>(q, at, candidate);
+            const Points one = gather(hull, slot(min(c + 1, size)));
+            const Points two = gather(hull, slot(min(c + 2, size)));
+            moving &= (c < size) & seesHigher<kSide>(q, at, one);
             c -= moving;
-            at = select(moving, candidate, at);
+            at = select(moving, one, at);
+            moving &= (c < size) & seesHigher<kSide>(q, at, two);
+            c -= moving;
+            at = select(moving, two, at);
         }
         for (Ints moving = down; any<kNative>(moving);) {
-            const Points candidate = gather(hull, slot(c - 1));
-            moving &= (c > 1) & seesHigher<kSide>(q, at, candidate);
+            const Points one = gather(hull, slot(max(c - 1, Ints{})));
+            const Points two = gather(hull, slot(max(c - 2, Ints{})));
+            moving &= (c > 1) & seesHigher<kSide>(q, at, one);
             c += moving;
-            at = select(moving, candidate, at);
+            at = select(moving, one, at);
+            moving &= (c > 1) & seesHigher<kSide>(q, at, two);
+            c += moving;
+            at = select(moving, two, at);
         }
     }
     guess = c;
     return at;
 }
 
-// Each lane's upper hull on a stack, slot d at d kLanes + lane, with its top three slots also in
-// registers: the slot under them is read one pop ahead, so that the read is not on the path that
+// Each lane's upper hull on a stack, slot d at d kLanes + lane, with its top four slots also in
+// registers: the slot under them is read two pops ahead, so that the read is not on the path that
 // decides whether to pop again.
 struct HullStack {
     float* points;
     Ints size{};
-    Points top{};  // slots size, size - 1, size - 2
+    Points top{};  // slots size, size - 1, size - 2, size - 3
     Points below{};
     Points under{};
+    Points deep{};
 };
 
 // Pushes p (after every point of the stack in t when forward, before when not), popping what it hides.
@@ -154,12 +164,14 @@ template <bool kNative, bool kForward>
         h.size += pop;
         h.top = select(pop, h.below, h.top);
         h.below = select(pop, h.under, h.below);
-        const Ints s = slot(max(h.size - 2, Ints{}));
-        h.under = select(pop, gather(h.points, s), h.under);
+        h.under = select(pop, h.deep, h.under);
+        const Ints s = slot(max(h.size - 3, Ints{}));
+        h.deep = select(pop, gather(h.points, s), h.deep);
     }
     h.size += 1;
     const Ints at = slot(h.size);
     scatter(h.points, at, p);
+    h.deep = h.under;
     h.under = h.below;
     h.below = h.top;
     h.top = p;
@@ -179,7 +191,7 @@ template <bool kNative, bool kForward>
 // Texels whose window's highest sample, at its nearest distance, cannot raise tan h skip the hull.
 template <bool kNative, int kSide>
 [[gnu::always_inline]] inline void farFieldOfSide(const float* zmap, const DirectionPlan& plan,
-                                                  GroupWork& work, int blockLength) {
+                                                  GroupWork& work, int blockRuns) {
     const float* z = work.z.data();
     const auto zAt = [&](int s) { return load(z + static_cast<std::ptrdiff_t>(s) * kLanes); };
     const float* t = plan.sampleT.data();
@@ -193,16 +205,20 @@ template <bool kNative, int kSide>
         const auto kk = static_cast<std::size_t>(k);
         const int first = w.first[kk];
         const int last = w.last[kk];
+        const int firstRun = first / kRun;
+        const int lastRun = last / kRun;
         const float tP = static_cast<float>(k) * dt;
         const Floats zP = load(zmap + plan.texelIndex[kk]);
         float* out = work.tan[kSide].data() + static_cast<std::ptrdiff_t>(k) * kLanes;
         Floats best = load(out);
-        // The window's highest sample, or a bound on it when the window lies inside one block.
+        // A bound on the window's highest sample: that of the runs it touches, or when they lie inside
+        // one block, of the block's runs up to the window's last.
         const Floats highest =
-            first / blockLength == last / blockLength
-                ? load(work.highestFromBlockStart.data() + static_cast<std::ptrdiff_t>(last) * kLanes)
-                : max(load(work.highestToBlockEnd.data() + static_cast<std::ptrdiff_t>(first) * kLanes),
-                      load(work.highestFromBlockStart.data() + static_cast<std::ptrdiff_t>(last) * kLanes));
+            firstRun / blockRuns == lastRun / blockRuns
+                ? load(work.highestFromBlockStart.data() + static_cast<std::ptrdiff_t>(lastRun) * kLanes)
+                : max(load(work.highestToBlockEnd.data() + static_cast<std::ptrdiff_t>(firstRun) * kLanes),
+                      load(work.highestFromBlockStart.data() +
+                           static_cast<std::ptrdiff_t>(lastRun) * kLanes));
         const Ints open = (highest - zP) > best * (kSide == 0 ? tP - t[last] : t[first] - tP);
         if (!any<kNative>(open)) continue;
         if constexpr (kSide == 0) {
@@ -243,36 +259,36 @@ template <bool kNative>
     work.z.resize(count * kLanes);
     work.hull.resize(2 * (count + 2) * kLanes);
     float* z = work.z.data();
-    // Per sample, the highest from the start of its block of blockLength samples and to the block's
-    // end: a window (at most blockLength samples) lies in one block or two. Per run of kRun samples, its
-    // highest.
-    work.highestFromBlockStart.resize(count * kLanes);
-    work.highestToBlockEnd.resize(count * kLanes);
-    const int blockLength = plan.longestWindow;
-    const auto block = static_cast<std::size_t>(blockLength);
+    // Per run of kRun samples, its highest; per run, the highest from its block's first run and to its
+    // block's last, in blocks of blockRuns runs: the runs that a window touches lie in one block or two.
+    const auto run = static_cast<std::size_t>(kRun);
+    const std::size_t runs = (count + run - 1) / run;
+    work.runHighest.resize(runs * kLanes);
+    work.highestFromBlockStart.resize(runs * kLanes);
+    work.highestToBlockEnd.resize(runs * kLanes);
+    const int blockRuns = plan.longestWindow / kRun + 2;
+    const auto block = static_cast<std::size_t>(blockRuns);
     Floats highest{};
+    Floats highestInRun{};
     for (std::size_t s = 0; s < count; ++s) {
         const float w = plan.sampleW[s];
         const Floats zs =
             (1.0f - w) * load(zmap + plan.sampleIndex0[s]) + w * load(zmap + plan.sampleIndex1[s]);
         store(z + s * kLanes, zs);
-        highest = s % block == 0 ? zs : max(highest, zs);
-        store(work.highestFromBlockStart.data() + s * kLanes, highest);
+        highestInRun = s % run == 0 ? zs : max(highestInRun, zs);
+        if ((s + 1) % run != 0 && s + 1 != count) continue;
+        const std::size_t r = s / run;
+        store(work.runHighest.data() + r * kLanes, highestInRun);
+        highest = r % block == 0 ? highestInRun : max(highest, highestInRun);
+        store(work.highestFromBlockStart.data() + r * kLanes, highest);
     }
-    for (std::size_t s = count; s-- > 0;) {
-        const Floats zs = load(z + s * kLanes);
-        highest = s + 1 == count || (s + 1) % block == 0 ? zs : max(highest, zs);
-        store(work.highestToBlockEnd.data() + s * kLanes, highest);
+    for (std::size_t r = runs; r-- > 0;) {
+        const Floats m = load(work.runHighest.data() + r * kLanes);
+        highest = r + 1 == runs || (r + 1) % block == 0 ? m : max(highest, m);
+        store(work.highestToBlockEnd.data() + r * kLanes, highest);
     }
-    const auto run = static_cast<std::size_t>(kRun);
-    work.runHighest.resize((count / run + 1) * kLanes);
-    for (std::size_t s = 0; s < count; s += run) {
-        Floats m = load(z + s * kLanes);
-        for (std::size_t i = s + 1; i < std::min(count, s + run); ++i) m = max(m, load(z + i * kLanes));
-        store(work.runHighest.data() + s / run * kLanes, m);
-    }
-    farFieldOfSide<kNative, 0>(zmap, plan, work, blockLength);
-    if (plan.paired) farFieldOfSide<kNative, 1>(zmap, plan, work, blockLength);
+    farFieldOfSide<kNative, 0>(zmap, plan, work, blockRuns);
+    if (plan.paired) farFieldOfSide<kNative, 1>(zmap, plan, work, blockRuns);
 }
 
 // tan h of the texels of lines [j, j + kLanes) at every step k into work.tan[side] (lane l is line
