@@ -43,7 +43,7 @@ void sweepKernel(benchmark::State& state) {
     const strata::Image depth = strata::makePattern("stone-bricks", {size, 1, 0.08}).depth;
     const strata::AoParams params;
     for (auto _ : state) {
-        strata::Image ao = strata::detail::sweepAo(depth, params, kernel);
+        strata::Image ao = strata::detail::sweepAo(depth, params, {kernel});
         benchmark::DoNotOptimize(ao.pixels().data());
     }
     const double work = static_cast<double>(size) * size * params.directions;

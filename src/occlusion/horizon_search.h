@@ -15,10 +15,17 @@ enum class SweepKernel { Auto, Portable, Avx2, Avx512 };
 bool sweepKernelRuns(SweepKernel kernel);
 const char* toString(SweepKernel kernel);
 
+struct SweepOptions {
+    SweepKernel kernel = SweepKernel::Auto;
+    // Every direction through hulls, also those whose windows are short enough that reading them sample
+    // by sample is faster (the default there). For tests: both give the same numbers but for ties.
+    bool hullsOnly = false;
+};
+
 // The line sweep with a convex-hull stack (AoMethod::Sweep). Throws Error when this CPU cannot run
-// `kernel`.
-HorizonMap sweepHorizons(const Image& depth, const AoParams& params, SweepKernel kernel = SweepKernel::Auto);
+// options.kernel.
+HorizonMap sweepHorizons(const Image& depth, const AoParams& params, const SweepOptions& options = {});
 // The sweep's cosine-weighted AO, accumulated direction by direction without storing the horizons.
-Image sweepAo(const Image& depth, const AoParams& params, SweepKernel kernel = SweepKernel::Auto);
+Image sweepAo(const Image& depth, const AoParams& params, const SweepOptions& options = {});
 
 }  // namespace strata::detail

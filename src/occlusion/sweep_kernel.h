@@ -291,6 +291,38 @@ template <bool kNative>
     if (plan.paired) farFieldOfSide<kNative, 1>(zmap, plan, work, blockRuns);
 }
 
+// The far field where every window is short (DirectionPlan::readWindows, at most kShortWindow
+// samples): each texel reads its window's samples. The hull's numbers (its tangent is the window's highest
+// sample, by the same division), but for ties between equally high samples, to float rounding.
+template <bool kNative>
+[[gnu::always_inline]] inline void shortFarFieldOfGroup(const float* zmap, const DirectionPlan& plan,
+                                                        GroupWork& work) {
+    const std::size_t count = plan.sampleT.size();
+    work.z.resize(count * kLanes);
+    float* z = work.z.data();
+    for (std::size_t s = 0; s < count; ++s) {
+        const float w = plan.sampleW[s];
+        store(z + s * kLanes,
+              (1.0f - w) * load(zmap + plan.sampleIndex0[s]) + w * load(zmap + plan.sampleIndex1[s]));
+    }
+    const float* t = plan.sampleT.data();
+    const auto dt = static_cast<float>(plan.dir.dt);
+    for (int side = 0; side < (plan.paired ? 2 : 1); ++side) {
+        const DirectionPlan::Side& w = plan.sides[side];
+        for (int k = 0; k < plan.sizeA; ++k) {
+            const auto kk = static_cast<std::size_t>(k);
+            const float tP = static_cast<float>(k) * dt;
+            const Floats zP = load(zmap + plan.texelIndex[kk]);
+            float* out = work.tan[side].data() + static_cast<std::ptrdiff_t>(k) * kLanes;
+            Floats best = load(out);
+            for (int i = w.first[kk]; i <= w.last[kk]; ++i)
+                best = max(best, (load(z + static_cast<std::ptrdiff_t>(i) * kLanes) - zP) /
+                                     (side == 0 ? tP - t[i] : t[i] - tP));
+            store(out, best);
+        }
+    }
+}
+
 // tan h of the texels of lines [j, j + kLanes) at every step k into work.tan[side] (lane l is line
 // j + l; lines past sizeB repeat the first ones and are computed, not used). With cosineWeights, each
 // result becomes the direction's term of the cosine-weighted AO instead, cos^2 h = 1 / (1 + tan^2 h),
@@ -320,7 +352,10 @@ template <bool kNative>
             store(out, max(load(out), (zR - load(zmap + plan.texelIndex[kk])) / radius));
         }
     }
-    if (plan.hasFar) farFieldOfGroup<kNative>(zmap, plan, work);
+    if (plan.hasFar && plan.readWindows)
+        shortFarFieldOfGroup<kNative>(zmap, plan, work);
+    else if (plan.hasFar)
+        farFieldOfGroup<kNative>(zmap, plan, work);
     if (cosineWeights)
         for (int side = 0; side < (plan.paired ? 2 : 1); ++side)
             for (std::ptrdiff_t e = 0; e < entries; e += kLanes) {

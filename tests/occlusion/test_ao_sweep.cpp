@@ -1,5 +1,6 @@
 // The sweep baker (AoMethod::Sweep) against closed forms, against the exact per-texel walk on every
 // built-in pattern, and against its own stored horizons.
+#include "occlusion/horizon_search.h"
 #include "strata/occlusion/ambient_occlusion.h"
 #include "strata/relief/patterns.h"
 
@@ -185,6 +186,32 @@ TEST(AoSweep, MatchesTheExactWalkOnEveryPattern) {
 // R bounds the search exactly: a one-texel pillar (its bilinear footprint reaches one texel out) on
 // flat ground is seen by no texel farther than R + 2 texels from it (R plus the footprint and the
 // far field's half-texel line offset), and the texels within R see it as the exact walk does.
+void expectNothingBeyondR(const Image& depth, const AoParams& params, const HorizonMap& horizons,
+                          int pillar) {
+    const int size = depth.width();
+    int seen = 0;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const int dx = std::min(std::abs(x - pillar), size - std::abs(x - pillar));
+            const int dy = std::min(std::abs(y - pillar), size - std::abs(y - pillar));
+            const double distance = std::hypot(dx, dy);
+            const std::span<const float> got = horizons.texel(x, y);
+            if (distance > params.radius * size + 2.0) {
+                for (const float t : got) ASSERT_EQ(t, 0.0f) << "texel " << x << ", " << y;
+            } else if (distance >= 2.0 && distance <= params.radius * size - 2.0) {
+                const std::vector<float> exact = texelHorizons(depth, params, x, y);
+                for (std::size_t i = 0; i < exact.size(); ++i) {
+                    // The far field's line passes up to half a texel beside the texel's own: across the
+                    // pillar's one-texel cone that changes the height seen by up to half the pillar
+                    // (S / 2), at a distance of at least 4 steps of one texel.
+                    ASSERT_NEAR(got[i], exact[i], 0.5 * 0.5 / (4.0 / size)) << "texel " << x << ", " << y;
+                    seen += exact[i] > 0.0f;
+                }
+            }
+        }
+    EXPECT_GT(seen, 100);  // the comparison above is not vacuous
+}
+
 TEST(AoSweep, NothingBeyondRIsSeen) {
     constexpr int kSize = 128;
     constexpr int kPillar = 40;
@@ -192,28 +219,13 @@ TEST(AoSweep, NothingBeyondRIsSeen) {
     depth.at(kPillar, kPillar) = 0.0f;
     AoParams params = sweepParams(0.5);
     params.radius = 0.25;  // 32 texels
-    const HorizonMap horizons = computeHorizons(depth, params);
-    int seen = 0;
-    for (int y = 0; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x) {
-            const int dx = std::min(std::abs(x - kPillar), kSize - std::abs(x - kPillar));
-            const int dy = std::min(std::abs(y - kPillar), kSize - std::abs(y - kPillar));
-            const double distance = std::hypot(dx, dy);
-            const std::span<const float> got = horizons.texel(x, y);
-            if (distance > params.radius * kSize + 2.0) {
-                for (const float t : got) ASSERT_EQ(t, 0.0f) << "texel " << x << ", " << y;
-            } else if (distance >= 2.0 && distance <= params.radius * kSize - 2.0) {
-                const std::vector<float> exact = texelHorizons(depth, params, x, y);
-                for (std::size_t i = 0; i < exact.size(); ++i) {
-                    // The far field's line passes up to half a texel beside the texel's own: across the
-                    // pillar's one-texel cone that changes the height seen by up to half the pillar
-                    // (S / 2), at a distance of at least 4 steps of one texel.
-                    ASSERT_NEAR(got[i], exact[i], 0.5 * 0.5 / (4.0 / kSize)) << "texel " << x << ", " << y;
-                    seen += exact[i] > 0.0f;
-                }
-            }
-        }
-    EXPECT_GT(seen, 100);  // the comparison above is not vacuous
+    // Windows this short are read sample by sample; the hulls, which hold samples from beyond R, must
+    // not see them either.
+    for (const bool hullsOnly : {false, true}) {
+        SCOPED_TRACE(hullsOnly ? "through hulls" : "windows read");
+        expectNothingBeyondR(depth, params, detail::sweepHorizons(depth, params, {.hullsOnly = hullsOnly}),
+                             kPillar);
+    }
 }
 
 // Small R, where most of the search is the window's edge: the sweep still matches the exact walk.
