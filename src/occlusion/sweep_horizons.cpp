@@ -404,9 +404,56 @@ constexpr Ints kPairOfHigh = {2, 10, 3, 11, 6, 14, 7, 15};
 #include "sweep_kernel.h"
 }  // namespace lanes8
 
+namespace lanes4 {
+// The baseline ISA (SSE2 on x86-64, NEON on AArch64): one 128-bit register of floats. Wider generic
+// vectors would be split into pairs of registers by GCC, and their masks and selects into scalar code.
+constexpr int kLanes = 4;
+using Floats = float __attribute__((vector_size(kLanes * sizeof(float))));
+using Ints = std::int32_t __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
+using Words = long long __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
+constexpr Ints kLaneIndex = {0, 1, 2, 3};
+
+template <bool>
+[[gnu::always_inline]] inline bool any(Ints mask) {
+    const auto w = std::bit_cast<Words>(mask);
+    return (w[0] | w[1]) != 0;
+}
+
+struct Points {
+    Floats t;
+    Floats z;
+};
+// (t, z) pairs as in lanes8: lanes 0 and 1 in one register, 2 and 3 in another.
+using Pairs = double __attribute__((vector_size(kLanes * sizeof(float))));
+constexpr Ints kEven = {0, 2, 4, 6};
+constexpr Ints kPairOfLow = {0, 4, 1, 5};
+constexpr Ints kPairOfHigh = {2, 6, 3, 7};
+[[gnu::always_inline]] inline Points gather(const float* pairs, Ints index) {
+    Pairs low;
+    Pairs high;
+    for (int l = 0; l < kLanes / 2; ++l) {
+        std::memcpy(&low[l], pairs + 2 * index[l], sizeof(double));
+        std::memcpy(&high[l], pairs + 2 * index[l + kLanes / 2], sizeof(double));
+    }
+    const auto a = std::bit_cast<Floats>(low);
+    const auto b = std::bit_cast<Floats>(high);
+    return {__builtin_shuffle(a, b, kEven), __builtin_shuffle(a, b, kEven + 1)};
+}
+[[gnu::always_inline]] inline void scatter(float* pairs, Ints index, const Points& p) {
+    const auto low = std::bit_cast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfLow));
+    const auto high = std::bit_cast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfHigh));
+    for (int l = 0; l < kLanes / 2; ++l) {
+        std::memcpy(pairs + 2 * index[l], &low[l], sizeof(double));
+        std::memcpy(pairs + 2 * index[l + kLanes / 2], &high[l], sizeof(double));
+    }
+}
+
+#include "sweep_kernel.h"
+}  // namespace lanes4
+
 void groupHorizonsPortable(const PaddedRelief& relief, const DirectionPlan& plan, int j, GroupWork& work,
                            bool cosineWeights) {
-    lanes8::horizonsOfGroup<false>(relief, plan, j, work, cosineWeights);
+    lanes4::horizonsOfGroup<false>(relief, plan, j, work, cosineWeights);
 }
 
 #ifdef STRATA_SWEEP_X86
@@ -497,7 +544,7 @@ GroupKernel groupKernel(SweepKernel kernel) {
             return {groupHorizonsAvx2, lanes8::kLanes};
 #endif
         default:
-            return {groupHorizonsPortable, lanes8::kLanes};
+            return {groupHorizonsPortable, lanes4::kLanes};
     }
 }
 
