@@ -5,7 +5,7 @@
 // grows with R x resolution. `paper` adds the polygon area and the 3x3 filter on the same horizons.
 // `sweep` (the default) is linear in texels x directions; the goals: 1024^2 in <= 0.5 s
 // (>= 1e8 texel-directions/s), >= 100x brute at 256^2, 512^2 in <= 100 ms. `sweepKernel` runs each of
-// the sweep's SIMD kernels that this CPU has (the default picks the widest): portable (SSE2, 8 lanes),
+// the sweep's SIMD kernels that this CPU has (the default picks the widest): portable (SSE2, 4 lanes),
 // avx2 (8 lanes), avx512 (16 lanes); they give the same AO bit for bit.
 // Run: build/release/bench/bench_occlusion
 #include "occlusion/horizon_search.h"

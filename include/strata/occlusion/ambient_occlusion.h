@@ -25,9 +25,10 @@
 // 4 texel steps, and walks its own line exactly up to there. The lateral half texel is its one
 // approximation; it matters only beyond those 4 steps, and docs/occlusion.md measures it against the
 // exact walk: RMSE <= 0.0023 AO on every built-in pattern at 256^2. The window is exact: a texel sees
-// the line's samples between R and 4 steps away and the point at exactly R, nothing farther (each line
-// is cut into blocks as long as that window; per block a hull pushed forwards answers the windows that
-// end in it and one pushed backwards those that start in it). Eight lines run in lockstep in SIMD lanes.
+// the line's samples between R and 4 steps away and the point at exactly R, nothing farther (one hull
+// per side holds the line from R before its start; where the texel's tangent to it lies beyond R and
+// would raise its horizon, the texel reads its window itself; short windows are always read). 4, 8 or
+// 16 lines run in lockstep in SIMD lanes (SSE2 or NEON, AVX2, AVX-512: the same numbers bit for bit).
 //
 // Methods (AoMethod):
 //   Brute  the convention's AO (CONVENTIONS §4): the cosine-weighted fraction of the hemisphere that is
@@ -35,7 +36,7 @@
 //          a wedge of width 2 pi / M above elevation h is (2 pi / M) cos^2(h) / 2, so
 //              AO = (1/M) sum_i cos^2(h_i) = (1/M) sum_i 1 / (1 + tan^2 h_i).
 //          Errors: the M-direction discretisation of the azimuth integral only (exact search).
-//   Sweep  the same quantity from the sweep's horizons (the default: ~100x faster than Brute at 256^2).
+//   Sweep  the same quantity from the sweep's horizons (the default: ~180x faster than Brute at 256^2).
 //   Paper  Section IV-A as written: the generalised cone's edges meet the unit hemisphere at
 //          p_i = cos(h_i) (cos phi_i, sin phi_i) (orthographic projection onto the plane); the AO is the
 //          area of that polygon, 1/2 sin(2 pi / M) sum_i cos h_i cos h_(i+1), divided by pi (paper) or by
