@@ -38,16 +38,24 @@
 [[gnu::always_inline]] inline Points select(Ints mask, const Points& a, const Points& b) {
     return {mask ? a.t : b.t, mask ? a.z : b.z};
 }
+// What the group's result holds: tan h, or with cosineWeights the direction's term of the
+// cosine-weighted AO, cos^2 h = 1 / (1 + tan^2 h).
+[[gnu::always_inline]] inline Floats result(Floats tanH, bool cosineWeights) {
+    return cosineWeights ? 1.0f / (1.0f + tanH * tanH) : tanH;
+}
 // > 0 where c lies above the line through a and b (a.t < b.t).
 [[gnu::always_inline]] inline Floats orient(const Points& a, const Points& b, const Points& c) {
     return (b.t - a.t) * (c.z - a.z) - (b.z - a.z) * (c.t - a.t);
 }
 
 // The near field of the group's texels at every step k into tan: tan h >= 0 over distances up to
-// kNear steps (or R).
+// kNear steps (or R), and with atR (where R is beyond the near field) the point at exactly R.
 template <bool kNative>
 [[gnu::always_inline]] inline void nearFieldOfGroup(const float* zmap, const DirectionPlan& plan,
-                                                    const NearStencil& stencil, float* tan) {
+                                                    const NearStencil& stencil,
+                                                    const DirectionPlan::Side* atR, bool cosineWeights,
+                                                    float* tan) {
+    const auto radius = static_cast<float>(plan.radius);
     const float cMajor = stencil.coefMajor;
     const float cMinor = stencil.coefMinor;
     for (int k = 0; k < plan.sizeA; ++k) {
@@ -89,7 +97,18 @@ template <bool kNative>
             }
             z0 = z1;
         }
-        store(tan + static_cast<std::ptrdiff_t>(k) * kLanes, best);
+        if (atR != nullptr) {
+            const DirectionPlan::Side& w = *atR;
+            const auto kk = static_cast<std::size_t>(k);
+            const float fr = w.boundaryFrac[kk];
+            const float alpha = w.boundaryAlpha[kk];
+            const float* c0 = zmap + w.boundaryIndex0[kk];
+            const float* c1 = zmap + w.boundaryIndex1[kk];
+            const Floats zR = (1.0f - alpha) * ((1.0f - fr) * load(c0) + fr * load(c0 + 1)) +
+                              alpha * ((1.0f - fr) * load(c1) + fr * load(c1 + 1));
+            best = max(best, (zR - zP) / radius);
+        }
+        store(tan + static_cast<std::ptrdiff_t>(k) * kLanes, result(best, cosineWeights));
     }
 }
 
@@ -191,7 +210,7 @@ template <bool kNative, bool kForward>
 // Texels whose window's highest sample, at its nearest distance, cannot raise tan h skip the hull.
 template <bool kNative, int kSide>
 [[gnu::always_inline]] inline void farFieldOfSide(const float* zmap, const DirectionPlan& plan,
-                                                  GroupWork& work, int blockRuns) {
+                                                  GroupWork& work, int blockRuns, bool cosineWeights) {
     const float* z = work.z.data();
     const auto zAt = [&](int s) { return load(z + static_cast<std::ptrdiff_t>(s) * kLanes); };
     const float* t = plan.sampleT.data();
@@ -220,7 +239,10 @@ template <bool kNative, int kSide>
                       load(work.highestFromBlockStart.data() +
                            static_cast<std::ptrdiff_t>(lastRun) * kLanes));
         const Ints open = (highest - zP) > best * (kSide == 0 ? tP - t[last] : t[first] - tP);
-        if (!any<kNative>(open)) continue;
+        if (!any<kNative>(open)) {
+            if (cosineWeights) store(out, result(best, true));
+            continue;
+        }
         if constexpr (kSide == 0) {
             for (; next <= last; ++next) push<kNative, true>(hull, {splat(t[next]), zAt(next)});
         } else {
@@ -247,14 +269,14 @@ template <bool kNative, int kSide>
             }
             best = unsure ? found : best;
         }
-        store(out, best);
+        store(out, result(best, cosineWeights));
     }
 }
 
 // Raises each lane's tan (per side and step k: near field and the point at R) to its far field.
 template <bool kNative>
 [[gnu::always_inline]] inline void farFieldOfGroup(const float* zmap, const DirectionPlan& plan,
-                                                   GroupWork& work) {
+                                                   GroupWork& work, bool cosineWeights) {
     const std::size_t count = plan.sampleT.size();
     work.z.resize(count * kLanes);
     work.hull.resize(2 * (count + 2) * kLanes);
@@ -287,8 +309,8 @@ template <bool kNative>
         highest = r + 1 == runs || (r + 1) % block == 0 ? m : max(highest, m);
         store(work.highestToBlockEnd.data() + r * kLanes, highest);
     }
-    farFieldOfSide<kNative, 0>(zmap, plan, work, blockRuns);
-    if (plan.paired) farFieldOfSide<kNative, 1>(zmap, plan, work, blockRuns);
+    farFieldOfSide<kNative, 0>(zmap, plan, work, blockRuns, cosineWeights);
+    if (plan.paired) farFieldOfSide<kNative, 1>(zmap, plan, work, blockRuns, cosineWeights);
 }
 
 // The far field where every window is short (DirectionPlan::readWindows, at most kShortWindow
@@ -296,7 +318,7 @@ template <bool kNative>
 // sample, by the same division), but for ties between equally high samples, to float rounding.
 template <bool kNative>
 [[gnu::always_inline]] inline void shortFarFieldOfGroup(const float* zmap, const DirectionPlan& plan,
-                                                        GroupWork& work) {
+                                                        GroupWork& work, bool cosineWeights) {
     const std::size_t count = plan.sampleT.size();
     work.z.resize(count * kLanes);
     float* z = work.z.data();
@@ -318,15 +340,15 @@ template <bool kNative>
             for (int i = w.first[kk]; i <= w.last[kk]; ++i)
                 best = max(best, (load(z + static_cast<std::ptrdiff_t>(i) * kLanes) - zP) /
                                      (side == 0 ? tP - t[i] : t[i] - tP));
-            store(out, best);
+            store(out, result(best, cosineWeights));
         }
     }
 }
 
 // tan h of the texels of lines [j, j + kLanes) at every step k into work.tan[side] (lane l is line
 // j + l; lines past sizeB repeat the first ones and are computed, not used). With cosineWeights, each
-// result becomes the direction's term of the cosine-weighted AO instead, cos^2 h = 1 / (1 + tan^2 h),
-// computed here with the kernel's vector width.
+// result becomes the direction's term of the cosine-weighted AO instead (result()), computed here with
+// the kernel's vector width.
 template <bool kNative>
 [[gnu::always_inline]] inline void horizonsOfGroup(const PaddedRelief& relief, const DirectionPlan& plan,
                                                    int j, GroupWork& work, bool cosineWeights) {
@@ -334,34 +356,15 @@ template <bool kNative>
     const std::ptrdiff_t entries = static_cast<std::ptrdiff_t>(plan.sizeA) * kLanes;
     for (int side = 0; side < (plan.paired ? 2 : 1); ++side) {
         work.tan[side].resize(static_cast<std::size_t>(entries));
-        float* tan = work.tan[side].data();
-        nearFieldOfGroup<kNative>(zmap, plan, plan.near[static_cast<std::size_t>(side)], tan);
-        if (!plan.hasFar) continue;
-        // The point at exactly R.
-        const DirectionPlan::Side& w = plan.sides[side];
-        const auto radius = static_cast<float>(plan.radius);
-        for (int k = 0; k < plan.sizeA; ++k) {
-            const auto kk = static_cast<std::size_t>(k);
-            const float fr = w.boundaryFrac[kk];
-            const float alpha = w.boundaryAlpha[kk];
-            const float* c0 = zmap + w.boundaryIndex0[kk];
-            const float* c1 = zmap + w.boundaryIndex1[kk];
-            const Floats zR = (1.0f - alpha) * ((1.0f - fr) * load(c0) + fr * load(c0 + 1)) +
-                              alpha * ((1.0f - fr) * load(c1) + fr * load(c1 + 1));
-            float* out = tan + static_cast<std::ptrdiff_t>(k) * kLanes;
-            store(out, max(load(out), (zR - load(zmap + plan.texelIndex[kk])) / radius));
-        }
+        // The near field and the point at R; the far field then raises them and gives the results.
+        nearFieldOfGroup<kNative>(zmap, plan, plan.near[static_cast<std::size_t>(side)],
+                                  plan.hasFar ? &plan.sides[side] : nullptr, cosineWeights && !plan.hasFar,
+                                  work.tan[side].data());
     }
     if (plan.hasFar && plan.readWindows)
-        shortFarFieldOfGroup<kNative>(zmap, plan, work);
+        shortFarFieldOfGroup<kNative>(zmap, plan, work, cosineWeights);
     else if (plan.hasFar)
-        farFieldOfGroup<kNative>(zmap, plan, work);
-    if (cosineWeights)
-        for (int side = 0; side < (plan.paired ? 2 : 1); ++side)
-            for (std::ptrdiff_t e = 0; e < entries; e += kLanes) {
-                const Floats h = load(work.tan[side].data() + e);
-                store(work.tan[side].data() + e, 1.0f / (1.0f + h * h));
-            }
+        farFieldOfGroup<kNative>(zmap, plan, work, cosineWeights);
 }
 
 // NOLINTEND(llvm-header-guard)
