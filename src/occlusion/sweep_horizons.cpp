@@ -383,25 +383,7 @@ constexpr int kPairLane[2][kLanes / 2] = {{0, 1, 4, 5}, {2, 3, 6, 7}};
 constexpr Ints kFirstOfPair = {0, 2, 8, 10, 4, 6, 12, 14};
 constexpr Ints kPairOfLow = {0, 8, 1, 9, 4, 12, 5, 13};  // (t, z) of lanes 0, 1, 4, 5
 constexpr Ints kPairOfHigh = {2, 10, 3, 11, 6, 14, 7, 15};
-[[gnu::always_inline]] inline Points gather(const float* pairs, Ints index) {
-    Pairs low;
-    Pairs high;
-    for (int l = 0; l < kLanes / 2; ++l) {
-        std::memcpy(&low[l], pairs + 2 * index[kPairLane[0][l]], sizeof(double));
-        std::memcpy(&high[l], pairs + 2 * index[kPairLane[1][l]], sizeof(double));
-    }
-    const auto a = std::bit_cast<Floats>(low);
-    const auto b = std::bit_cast<Floats>(high);
-    return {__builtin_shuffle(a, b, kFirstOfPair), __builtin_shuffle(a, b, kFirstOfPair + 1)};
-}
-[[gnu::always_inline]] inline void scatter(float* pairs, Ints index, const Points& p) {
-    const auto low = std::bit_cast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfLow));
-    const auto high = std::bit_cast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfHigh));
-    for (int l = 0; l < kLanes / 2; ++l) {
-        std::memcpy(pairs + 2 * index[kPairLane[0][l]], &low[l], sizeof(double));
-        std::memcpy(pairs + 2 * index[kPairLane[1][l]], &high[l], sizeof(double));
-    }
-}
+#include "sweep_pairs.h"
 
 #include "sweep_kernel.h"
 }  // namespace lanes8
@@ -427,28 +409,11 @@ struct Points {
 };
 // (t, z) pairs as in lanes8: lanes 0 and 1 in one register, 2 and 3 in another.
 using Pairs = double __attribute__((vector_size(kLanes * sizeof(float))));
-constexpr Ints kEven = {0, 2, 4, 6};
+constexpr int kPairLane[2][kLanes / 2] = {{0, 1}, {2, 3}};
+constexpr Ints kFirstOfPair = {0, 2, 4, 6};
 constexpr Ints kPairOfLow = {0, 4, 1, 5};
 constexpr Ints kPairOfHigh = {2, 6, 3, 7};
-[[gnu::always_inline]] inline Points gather(const float* pairs, Ints index) {
-    Pairs low;
-    Pairs high;
-    for (int l = 0; l < kLanes / 2; ++l) {
-        std::memcpy(&low[l], pairs + 2 * index[l], sizeof(double));
-        std::memcpy(&high[l], pairs + 2 * index[l + kLanes / 2], sizeof(double));
-    }
-    const auto a = std::bit_cast<Floats>(low);
-    const auto b = std::bit_cast<Floats>(high);
-    return {__builtin_shuffle(a, b, kEven), __builtin_shuffle(a, b, kEven + 1)};
-}
-[[gnu::always_inline]] inline void scatter(float* pairs, Ints index, const Points& p) {
-    const auto low = std::bit_cast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfLow));
-    const auto high = std::bit_cast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfHigh));
-    for (int l = 0; l < kLanes / 2; ++l) {
-        std::memcpy(pairs + 2 * index[l], &low[l], sizeof(double));
-        std::memcpy(pairs + 2 * index[l + kLanes / 2], &high[l], sizeof(double));
-    }
-}
+#include "sweep_pairs.h"
 
 #include "sweep_kernel.h"
 }  // namespace lanes4
