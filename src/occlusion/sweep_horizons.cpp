@@ -43,7 +43,6 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -72,11 +71,21 @@ constexpr int kRun = 16;
 constexpr int kShortWindow = 192;
 
 // GCC vector extensions, each lane width in a namespace of its own below. Every function that takes or
-// returns them is always inlined into a kernel compiled for the ISA that holds them, so the ABI of wide
-// vectors without that ISA, which GCC warns about, never applies.
+// returns them is always inlined into a kernel compiled for the ISA that holds them (also at -O0, where
+// a call between code built for different ISAs would not agree on where a wide vector goes), so the ABI
+// of wide vectors without that ISA, which GCC warns about, never applies.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
+
+// std::bit_cast, always inlined (at -O0 std::bit_cast is a call).
+template <typename To, typename From>
+[[gnu::always_inline]] inline To bitCast(const From& from) {
+    static_assert(sizeof(To) == sizeof(From));
+    To to;
+    std::memcpy(&to, &from, sizeof to);
+    return to;
+}
 
 // z = -S d in (major a, minor b) order, the minor axis contiguous: column a holds every minor index b.
 // The minor axis is stored twice over (b in [0, 2 sizeB)) so that line j's row j + b never wraps, and
@@ -362,7 +371,7 @@ constexpr Ints kLaneIndex = {0, 1, 2, 3, 4, 5, 6, 7};
 // AVX2 (the builtin, unlike its intrinsic, may sit in a function inlined into one).
 template <bool kNative>
 [[gnu::always_inline]] inline bool any(Ints mask) {
-    const auto w = std::bit_cast<Words>(mask);
+    const auto w = bitCast<Words>(mask);
 #ifdef STRATA_SWEEP_X86
     if constexpr (kNative) return !__builtin_ia32_ptestz256(w, w);
 #endif
@@ -399,7 +408,7 @@ constexpr Ints kLaneIndex = {0, 1, 2, 3};
 
 template <bool>
 [[gnu::always_inline]] inline bool any(Ints mask) {
-    const auto w = std::bit_cast<Words>(mask);
+    const auto w = bitCast<Words>(mask);
     return (w[0] | w[1]) != 0;
 }
 
@@ -443,7 +452,7 @@ constexpr Ints kLaneIndex = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 1
 
 template <bool>
 [[gnu::always_inline]] inline bool any(Ints mask) {
-    const auto m = std::bit_cast<__m512i>(mask);
+    const auto m = bitCast<__m512i>(mask);
     return _mm512_test_epi32_mask(m, m) != 0;
 }
 
@@ -466,18 +475,18 @@ constexpr auto kAllEight = static_cast<__mmask8>(0xff);  // every one of eight e
 }
 [[gnu::always_inline]] inline Points gather(const float* pairs, Ints index) {
     const auto a =
-        std::bit_cast<Floats>(gather8(pairs, __builtin_shufflevector(index, index, 0, 1, 2, 3, 4, 5, 6, 7)));
-    const auto b = std::bit_cast<Floats>(
-        gather8(pairs, __builtin_shufflevector(index, index, 8, 9, 10, 11, 12, 13, 14, 15)));
+        bitCast<Floats>(gather8(pairs, __builtin_shufflevector(index, index, 0, 1, 2, 3, 4, 5, 6, 7)));
+    const auto b =
+        bitCast<Floats>(gather8(pairs, __builtin_shufflevector(index, index, 8, 9, 10, 11, 12, 13, 14, 15)));
     return {__builtin_shuffle(a, b, kEven), __builtin_shuffle(a, b, kEven + 1)};
 }
 [[gnu::always_inline]] inline void scatter(float* pairs, Ints index, const Points& p) {
     __builtin_ia32_scattersiv8df(pairs, kAllEight,
                                  __builtin_shufflevector(index, index, 0, 1, 2, 3, 4, 5, 6, 7),
-                                 std::bit_cast<Doubles>(__builtin_shuffle(p.t, p.z, kPairOfLow)), 8);
+                                 bitCast<Doubles>(__builtin_shuffle(p.t, p.z, kPairOfLow)), 8);
     __builtin_ia32_scattersiv8df(pairs, kAllEight,
                                  __builtin_shufflevector(index, index, 8, 9, 10, 11, 12, 13, 14, 15),
-                                 std::bit_cast<Doubles>(__builtin_shuffle(p.t, p.z, kPairOfHigh)), 8);
+                                 bitCast<Doubles>(__builtin_shuffle(p.t, p.z, kPairOfHigh)), 8);
 }
 
 #include "sweep_kernel.h"

@@ -212,7 +212,11 @@ template <bool kNative, int kSide>
 [[gnu::always_inline]] inline void farFieldOfSide(const float* zmap, const DirectionPlan& plan,
                                                   GroupWork& work, int blockRuns, bool cosineWeights) {
     const float* z = work.z.data();
-    const auto zAt = [&](int s) { return load(z + static_cast<std::ptrdiff_t>(s) * kLanes); };
+    // Always inlined, as everything here: at -O0 a call between code built for different ISAs would not
+    // agree on where a wide vector goes (GCC's -Wpsabi).
+    const auto zAt = [&](int s) __attribute__((always_inline)) {
+        return load(z + static_cast<std::ptrdiff_t>(s) * kLanes);
+    };
     const float* t = plan.sampleT.data();
     const auto dt = static_cast<float>(plan.dir.dt);
     const DirectionPlan::Side& w = plan.sides[kSide];

@@ -14,13 +14,13 @@
         std::memcpy(&low[l], pairs + 2 * index[kPairLane[0][l]], sizeof(double));
         std::memcpy(&high[l], pairs + 2 * index[kPairLane[1][l]], sizeof(double));
     }
-    const auto a = std::bit_cast<Floats>(low);
-    const auto b = std::bit_cast<Floats>(high);
+    const auto a = bitCast<Floats>(low);
+    const auto b = bitCast<Floats>(high);
     return {__builtin_shuffle(a, b, kFirstOfPair), __builtin_shuffle(a, b, kFirstOfPair + 1)};
 }
 [[gnu::always_inline]] inline void scatter(float* pairs, Ints index, const Points& p) {
-    const auto low = std::bit_cast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfLow));
-    const auto high = std::bit_cast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfHigh));
+    const auto low = bitCast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfLow));
+    const auto high = bitCast<Pairs>(__builtin_shuffle(p.t, p.z, kPairOfHigh));
     for (int l = 0; l < kLanes / 2; ++l) {
         std::memcpy(pairs + 2 * index[kPairLane[0][l]], &low[l], sizeof(double));
         std::memcpy(pairs + 2 * index[kPairLane[1][l]], &high[l], sizeof(double));
