@@ -1,6 +1,6 @@
 // Internal: the sweep's SIMD kernel for one line group, written once for any lane count. It is included
-// by sweep_horizons.cpp inside a namespace per lane width (8 for SSE2 / AVX2, 16 for AVX-512, the
-// latter inside a `#pragma GCC target` region), after that namespace has defined:
+// by sweep_horizons.cpp inside a namespace per lane width (4 for the baseline ISA, 8 for AVX2, 16 for
+// AVX-512, the latter inside a `#pragma GCC target` region), after that namespace has defined:
 //   kLanes, Floats and Ints (GCC vector types of kLanes lanes), kLaneIndex = {0, 1, ..., kLanes - 1},
 //   struct Points { Floats t, z; }, any<kNative>(Ints) (whether any lane is set),
 //   gather(const float*, Ints) / scatter(float*, Ints, const Points&) of (t, z) at hull slots,
