@@ -3,7 +3,8 @@
 //
 // Per direction, parallel lines one texel apart sweep the map. Every line has the same sample times
 // and interpolation weights, only its heights differ, so neighbouring lines run in lockstep, one per
-// SIMD lane (8 with SSE2 or AVX2, 16 with AVX-512): the control flow that depends on t alone (which
+// SIMD lane (4 with the baseline ISA, 8 with AVX2, 16 with AVX-512): the control flow that depends on t
+// alone (which
 // texel asks when, which samples it sees) is shared, and the hull loops that depend on the heights run
 // until every lane is done, with masks. Opposite directions (i and i + M/2, M even) use the same
 // lines, texels and samples, looking the other way along them, so they share the samples. Per line
@@ -25,7 +26,8 @@
 // That is the window's answer unless the tangent lies beyond R and would raise tan h; only then does
 // the lane read its window itself (farFieldOfSide). Each sample is pushed once per side and popped at
 // most once; each texel makes one tangent query per side. A lane's stack is its own (slot d of lane l
-// at d kLanes + l; reads are gathers), but every lane pushes the same samples at the same time.
+// at d kLanes + l; reads are gathers), but every lane pushes the same samples at the same time. Where
+// every window of a direction is short (kShortWindow), each texel reads its window instead.
 //
 // The line is at most half a texel beside P, and that offset only matters beyond kNear columns, where
 // it changes the elevation by at most (offset x slope across) / distance.
