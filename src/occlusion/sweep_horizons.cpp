@@ -3,11 +3,10 @@
 //
 // Per direction, parallel lines one texel apart sweep the map. Every line has the same sample times
 // and interpolation weights, only its heights differ, so neighbouring lines run in lockstep, one per
-// SIMD lane (4 with the baseline ISA, 8 with AVX2, 16 with AVX-512): the control flow that depends on t
-// alone (which
-// texel asks when, which samples it sees) is shared, and the hull loops that depend on the heights run
-// until every lane is done, with masks. Opposite directions (i and i + M/2, M even) use the same
-// lines, texels and samples, looking the other way along them, so they share the samples. Per line
+// SIMD lane (4 with the baseline ISA, 8 with AVX2, 16 with AVX-512): the control flow that depends on
+// t alone (which texel asks when, which samples it sees) is shared, and the hull loops that depend on
+// the heights run until every lane is done, with masks. Opposite directions (i and i + M/2, M even) use the
+// same lines, texels and samples, looking the other way along them, so they share the samples. Per line
 // group, the near field, the point at R, then the far field raise each texel's tan h; then the sink
 // reads them. The kernel is in sweep_kernel.h, included once per lane width below.
 //
