@@ -277,6 +277,12 @@ template <bool kNative, int kSide>
     }
 }
 
+// The group's heights at sample s of the line.
+[[gnu::always_inline]] inline Floats sampleAt(const float* zmap, const DirectionPlan& plan, std::size_t s) {
+    const float w = plan.sampleW[s];
+    return (1.0f - w) * load(zmap + plan.sampleIndex0[s]) + w * load(zmap + plan.sampleIndex1[s]);
+}
+
 // Raises each lane's tan (per side and step k: near field and the point at R) to its far field.
 template <bool kNative>
 [[gnu::always_inline]] inline void farFieldOfGroup(const float* zmap, const DirectionPlan& plan,
@@ -297,9 +303,7 @@ template <bool kNative>
     Floats highest{};
     Floats highestInRun{};
     for (std::size_t s = 0; s < count; ++s) {
-        const float w = plan.sampleW[s];
-        const Floats zs =
-            (1.0f - w) * load(zmap + plan.sampleIndex0[s]) + w * load(zmap + plan.sampleIndex1[s]);
+        const Floats zs = sampleAt(zmap, plan, s);
         store(z + s * kLanes, zs);
         highestInRun = s % run == 0 ? zs : max(highestInRun, zs);
         if ((s + 1) % run != 0 && s + 1 != count) continue;
@@ -326,11 +330,7 @@ template <bool kNative>
     const std::size_t count = plan.sampleT.size();
     work.z.resize(count * kLanes);
     float* z = work.z.data();
-    for (std::size_t s = 0; s < count; ++s) {
-        const float w = plan.sampleW[s];
-        store(z + s * kLanes,
-              (1.0f - w) * load(zmap + plan.sampleIndex0[s]) + w * load(zmap + plan.sampleIndex1[s]));
-    }
+    for (std::size_t s = 0; s < count; ++s) store(z + s * kLanes, sampleAt(zmap, plan, s));
     const float* t = plan.sampleT.data();
     const auto dt = static_cast<float>(plan.dir.dt);
     for (int side = 0; side < (plan.paired ? 2 : 1); ++side) {
