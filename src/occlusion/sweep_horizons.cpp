@@ -21,7 +21,7 @@
 // with |tP - t| in [kNear dt, R] on its side (its window), plus the point at exactly R. Per side, one
 // upper convex hull on a stack (Timonen & Westerholm 2010: pushing a point pops the ones it hides)
 // takes the line's samples in order, up to the window's near end, and the texel's tangent to it (a
-// local search from the previous answer) is the highest sample over its window and everything beyond.
+// walk down from the hull's top) is the highest sample over its window and everything beyond.
 // That is the window's answer unless the tangent lies beyond R and would raise tan h; only then does
 // the lane read its window itself (farFieldOfSide). Each sample is pushed once per side and popped at
 // most once; each texel makes one tangent query per side. A lane's stack is its own (slot d of lane l
