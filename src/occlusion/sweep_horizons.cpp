@@ -350,14 +350,10 @@ struct DirectionPlan {
 // Per-thread storage for one line group at a time; lane l of entry e at e width + l, width the
 // kernel's group width.
 struct GroupWork {
-    std::vector<float> tan[2];  // the result per side: step k
-    std::vector<float> z;       // the samples
-    std::vector<float> hull;    // (t, z) per slot [1, size]
-    // Per run of kRun samples: its highest sample, the highest from its block's first run, and to its
-    // block's last (blocks of DirectionPlan::longestWindow / kRun + 2 runs).
-    std::vector<float> highestFromBlockStart;
-    std::vector<float> highestToBlockEnd;
-    std::vector<float> runHighest;
+    std::vector<float> tan[2];      // the result per side: step k
+    std::vector<float> z;           // the samples
+    std::vector<float> hull;        // (t, z) per slot [1, size]
+    std::vector<float> runHighest;  // per run of kRun samples, its highest
 };
 
 namespace lanes8 {

@@ -194,10 +194,9 @@ template <bool kNative, bool kForward>
 // - beyond R and higher (about 2 % of the texels at R = 1 tile; more where R is short, but then the
 //   window is short), the lane reads the window itself, nearest first, in runs of kRun samples, and
 //   skips every run whose highest sample at its nearest distance cannot beat what the lane has.
-// Texels whose window's highest sample, at its nearest distance, cannot raise tan h skip the hull.
 template <bool kNative, int kSide>
 [[gnu::always_inline]] inline void farFieldOfSide(const float* zmap, const DirectionPlan& plan,
-                                                  GroupWork& work, int blockRuns, bool cosineWeights) {
+                                                  GroupWork& work, bool cosineWeights) {
     const float* z = work.z.data();
     // Always inlined, as everything here: at -O0 a call between code built for different ISAs would not
     // agree on where a wide vector goes (GCC's -Wpsabi).
@@ -214,25 +213,10 @@ template <bool kNative, int kSide>
         const auto kk = static_cast<std::size_t>(k);
         const int first = w.first[kk];
         const int last = w.last[kk];
-        const int firstRun = first / kRun;
-        const int lastRun = last / kRun;
         const float tP = static_cast<float>(k) * dt;
         const Floats zP = load(zmap + plan.texelIndex[kk]);
         float* out = work.tan[kSide].data() + static_cast<std::ptrdiff_t>(k) * kLanes;
         Floats best = load(out);
-        // A bound on the window's highest sample: that of the runs it touches, or when they lie inside
-        // one block, of the block's runs up to the window's last.
-        const Floats highest =
-            firstRun / blockRuns == lastRun / blockRuns
-                ? load(work.highestFromBlockStart.data() + static_cast<std::ptrdiff_t>(lastRun) * kLanes)
-                : max(load(work.highestToBlockEnd.data() + static_cast<std::ptrdiff_t>(firstRun) * kLanes),
-                      load(work.highestFromBlockStart.data() +
-                           static_cast<std::ptrdiff_t>(lastRun) * kLanes));
-        const Ints open = (highest - zP) > best * (kSide == 0 ? tP - t[last] : t[first] - tP);
-        if (!any<kNative>(open)) {
-            if (cosineWeights) store(out, result(best, true));
-            continue;
-        }
         if constexpr (kSide == 0) {
             for (; next <= last; ++next) push<kNative, true>(hull, {splat(t[next]), zAt(next)});
         } else {
@@ -242,7 +226,7 @@ template <bool kNative, int kSide>
         const Floats elevation = (h.z - zP) / (kSide == 0 ? tP - h.t : h.t - tP);
         const Ints beyond = kSide == 0 ? h.t < t[first] : h.t > t[last];
         const Ints raises = elevation > best;
-        const Ints unsure = beyond & raises & open;
+        const Ints unsure = beyond & raises;
         best = (raises & ~beyond) ? elevation : best;
         if (any<kNative>(unsure)) {
             Floats found = best;
@@ -277,34 +261,19 @@ template <bool kNative>
     work.z.resize(count * kLanes);
     work.hull.resize(2 * (count + 2) * kLanes);
     float* z = work.z.data();
-    // Per run of kRun samples, its highest; per run, the highest from its block's first run and to its
-    // block's last, in blocks of blockRuns runs: the runs that a window touches lie in one block or two.
+    // Per run of kRun samples, its highest: the bound that lets a lane reading its window skip a run.
     const auto run = static_cast<std::size_t>(kRun);
-    const std::size_t runs = (count + run - 1) / run;
-    work.runHighest.resize(runs * kLanes);
-    work.highestFromBlockStart.resize(runs * kLanes);
-    work.highestToBlockEnd.resize(runs * kLanes);
-    const int blockRuns = plan.longestWindow / kRun + 2;
-    const auto block = static_cast<std::size_t>(blockRuns);
-    Floats highest{};
+    work.runHighest.resize((count + run - 1) / run * kLanes);
     Floats highestInRun{};
     for (std::size_t s = 0; s < count; ++s) {
         const Floats zs = sampleAt(zmap, plan, s);
         store(z + s * kLanes, zs);
         highestInRun = s % run == 0 ? zs : max(highestInRun, zs);
-        if ((s + 1) % run != 0 && s + 1 != count) continue;
-        const std::size_t r = s / run;
-        store(work.runHighest.data() + r * kLanes, highestInRun);
-        highest = r % block == 0 ? highestInRun : max(highest, highestInRun);
-        store(work.highestFromBlockStart.data() + r * kLanes, highest);
+        if ((s + 1) % run == 0 || s + 1 == count)
+            store(work.runHighest.data() + s / run * kLanes, highestInRun);
     }
-    for (std::size_t r = runs; r-- > 0;) {
-        const Floats m = load(work.runHighest.data() + r * kLanes);
-        highest = r + 1 == runs || (r + 1) % block == 0 ? m : max(highest, m);
-        store(work.highestToBlockEnd.data() + r * kLanes, highest);
-    }
-    farFieldOfSide<kNative, 0>(zmap, plan, work, blockRuns, cosineWeights);
-    if (plan.paired) farFieldOfSide<kNative, 1>(zmap, plan, work, blockRuns, cosineWeights);
+    farFieldOfSide<kNative, 0>(zmap, plan, work, cosineWeights);
+    if (plan.paired) farFieldOfSide<kNative, 1>(zmap, plan, work, cosineWeights);
 }
 
 // The far field where every window is short (DirectionPlan::readWindows, at most kShortWindow
