@@ -44,6 +44,7 @@
 #include <tbb/task_group.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -522,11 +523,13 @@ GroupKernel groupKernel(SweepKernel kernel) {
 }
 
 // Runs the sweep for every direction and hands each line group's horizons to
-// sink(i, plan, j, lanes, width, tan): tan[k width + l] is the horizon of line j + l (l < lanes) at step k in
-// direction i (or with cosineWeights its cos^2 h), texel (plan.texelColumn[k], j + l + plan.texelRow[k],
-// minor wrapped) in (major, minor) coordinates. Every texel lies on exactly one line per direction, so
-// sinks of one direction never share a texel. With M even, directions i and i + M/2 are opposite:
-// the same lines and samples serve both. width is the kernel's group width (lanes <= width).
+// sink(i, plan, j, lanes, width, tan, opposite): tan[k width + l] is the horizon of line j + l
+// (l < lanes) at step k in direction i (or with cosineWeights its cos^2 h), texel (plan.texelColumn[k],
+// j + l + plan.texelRow[k], minor wrapped) in (major, minor) coordinates. Every texel lies on exactly one
+// line per direction, so sinks of one direction never share a texel. With M even, directions i and
+// i + M/2 are opposite: the same lines, samples and texels serve both, and opposite holds direction
+// i + M/2's results as tan holds i's (nullptr with M odd). width is the kernel's group width
+// (lanes <= width).
 template <typename Sink>
 void sweep(const Image& depth, const AoParams& params, const SweepOptions& options, bool cosineWeights,
            const Sink& sink) {
@@ -559,8 +562,8 @@ void sweep(const Image& depth, const AoParams& params, const SweepOptions& optio
                 const int j = g * kernel.lanes;
                 const int lanes = std::min(kernel.lanes, sizeB - j);
                 kernel.horizons(relief, plan, j, work, cosineWeights);
-                sink(i, plan, j, lanes, kernel.lanes, work.tan[0].data());
-                if (paired) sink(i + m / 2, plan, j, lanes, kernel.lanes, work.tan[1].data());
+                sink(i, plan, j, lanes, kernel.lanes, work.tan[0].data(),
+                     paired ? work.tan[1].data() : nullptr);
             }
         });
         planning.wait();
@@ -627,17 +630,19 @@ HorizonMap sweepHorizons(const Image& depth, const AoParams& params, const Sweep
                              static_cast<std::size_t>(m));
     const auto dirs = static_cast<std::size_t>(m);
     sweep(depth, params, options, false,
-          [&](int i, const DirectionPlan& plan, int j, int lanes, int width, const float* tan) {
+          [&](int i, const DirectionPlan& plan, int j, int lanes, int width, const float* tan,
+              const float* opposite) {
               for (int k = 0; k < plan.sizeA; ++k) {
-                  const float* tk = tan + static_cast<std::ptrdiff_t>(k) * width;
+                  const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(k) * width;
                   forEachTexel(plan, j, lanes, k, [&](std::size_t index, int l) {
                       // index = a sizeB + b; the map is row-major in (x, y).
                       const std::size_t a = index / static_cast<std::size_t>(plan.sizeB);
                       const std::size_t b = index % static_cast<std::size_t>(plan.sizeB);
                       const std::size_t x = plan.dir.xMajor ? a : b;
                       const std::size_t y = plan.dir.xMajor ? b : a;
-                      result.tanHorizon[(y * static_cast<std::size_t>(w) + x) * dirs +
-                                        static_cast<std::size_t>(i)] = tk[l];
+                      float* texel = result.tanHorizon.data() + (y * static_cast<std::size_t>(w) + x) * dirs;
+                      texel[i] = tan[at + l];
+                      if (opposite != nullptr) texel[i + m / 2] = opposite[at + l];
                   });
               }
           });
@@ -652,10 +657,18 @@ Image sweepAo(const Image& depth, const AoParams& params, const SweepOptions& op
     std::vector<float> byColumns(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0.0f);
     std::vector<float> byRows(byColumns.size(), 0.0f);
     sweep(depth, params, options, true,
-          [&](int, const DirectionPlan& plan, int j, int lanes, int width, const float* weight) {
+          [&](int, const DirectionPlan& plan, int j, int lanes, int width, const float* weight,
+              const float* opposite) {
               float* sum = plan.dir.xMajor ? byColumns.data() : byRows.data();
+              std::array<float, kMaxLanes> both{};
               for (int k = 0; k < plan.sizeA; ++k) {
                   const float* wk = weight + static_cast<std::ptrdiff_t>(k) * width;
+                  if (opposite != nullptr) {
+                      // The opposite direction's texels are the same: one pass over them adds both.
+                      const float* ok = opposite + static_cast<std::ptrdiff_t>(k) * width;
+                      for (int l = 0; l < width; ++l) both[static_cast<std::size_t>(l)] = wk[l] + ok[l];
+                      wk = both.data();
+                  }
                   const auto kk = static_cast<std::size_t>(k);
                   int row = j + plan.texelRow[kk];
                   if (row >= plan.sizeB) row -= plan.sizeB;
