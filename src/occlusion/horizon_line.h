@@ -89,11 +89,12 @@ void raiseByArcInterior(Real& best, Real zP, Real t0, Real z0, Real t1, Real z1,
     const Real c = curvature / (length * length);
     const Real b = (z1 - z0) / length - c * (t0 + t1);
     const Real a = z0 - b * t0 - c * t0 * t0;  // z(t) = a + b t + c t^2
-    // d/dt ((z - zP) / t) = 0  <=>  c t^2 = a - zP.
+    // d/dt ((z - zP) / t) = 0  <=>  c t^2 = a - zP, where the elevation (a - zP) / t + b + c t is
+    // b - 2 sqrt((a - zP) c).
     const Real ratio = (a - zP) / c;
     if (ratio <= Real(0)) return;
     const Real t = std::sqrt(ratio);
-    if (t > t0 && t < t1) best = std::max(best, (a + b * t + c * t * t - zP) / t);
+    if (t > t0 && t < t1) best = std::max(best, b - Real(2) * std::sqrt((a - zP) * c));
 }
 
 // The exact horizon tan h >= 0 of texel (x, y) along its own line in direction `dir`, over distances

@@ -83,16 +83,14 @@ template <bool kNative>
                 const float t1 = s.t1;
                 const Floats qc = e * s.twist;
                 const Floats qb = (z1 - z0) * s.invLength - qc * (t0 + t1);
-                // t0^2 < (qa - zP) / qc < t1^2 with qc < 0, multiplied out: no division in the usual case,
-                // where no lane's peak is inside. The divisor and the root are kept finite where unused.
+                // t0^2 < (qa - zP) / qc < t1^2 with qc < 0, multiplied out: no division.
                 const Floats rise = z0 - qb * t0 - qc * (t0 * t0) - zP;
                 const Ints inside = (qc < 0.0f) & (rise < qc * (t0 * t0)) & (rise > qc * (t1 * t1));
                 if (any<kNative>(inside)) {
-                    const Floats ratio = rise / min(qc, splat(-1e-30f));
-                    Floats tm = min(max(ratio, splat(t0 * t0)), splat(t1 * t1));
-                    for (int l = 0; l < kLanes; ++l) tm[l] = std::sqrt(tm[l]);
-                    const Floats peak = (rise + qb * tm + qc * tm * tm) / tm;
-                    best = inside ? max(best, peak) : best;
+                    // The peak's elevation, qb - 2 sqrt(rise qc); the root is kept finite where unused.
+                    Floats root = max(rise * qc, Floats{});
+                    for (int l = 0; l < kLanes; ++l) root[l] = std::sqrt(root[l]);
+                    best = inside ? max(best, qb - 2.0f * root) : best;
                 }
             }
             z0 = z1;
