@@ -234,9 +234,17 @@ template <bool kNative, int kSide>
                 const int s1 = std::min(r * kRun + kRun - 1, last);
                 const float nearest = kSide == 0 ? tP - t[s1] : t[s0] - tP;
                 if (any<kNative>(unsure & ((load(runHighest + static_cast<std::ptrdiff_t>(r) * kLanes) - zP) >
-                                           found * nearest)))
+                                           found * nearest))) {
+                    // Divides only where a sample may beat found: rise > found (1 - 2^-20) distance holds
+                    // for every sample whose elevation, rounded, exceeds found (>= 0).
+                    const Floats margin = found * (1.0f - 0x1p-20f);
+                    Ints beats{};
                     for (int s = s0; s <= s1; ++s)
-                        found = max(found, (zAt(s) - zP) / (kSide == 0 ? tP - t[s] : t[s] - tP));
+                        beats |= (zAt(s) - zP) > margin * (kSide == 0 ? tP - t[s] : t[s] - tP);
+                    if (any<kNative>(unsure & beats))
+                        for (int s = s0; s <= s1; ++s)
+                            found = max(found, (zAt(s) - zP) / (kSide == 0 ? tP - t[s] : t[s] - tP));
+                }
                 if (r == (kSide == 0 ? first : last) / kRun) break;
             }
             best = unsure ? found : best;
