@@ -85,7 +85,12 @@ template <bool kNative>
                 const Floats qb = (z1 - z0) * s.invLength - qc * (t0 + t1);
                 // t0^2 < (qa - zP) / qc < t1^2 with qc < 0, multiplied out: no division.
                 const Floats rise = z0 - qb * t0 - qc * (t0 * t0) - zP;
-                const Ints inside = (qc < 0.0f) & (rise < qc * (t0 * t0)) & (rise > qc * (t1 * t1));
+                // Where the peak lies inside, it raises best only if qb - best > 2 sqrt(rise qc), i.e.
+                // qb > best and (qb - best)^2 > 4 rise qc (with a 2^-20 margin for rounding): the root is
+                // taken only then.
+                const Floats above = qb - best;
+                const Ints inside = (qc < 0.0f) & (rise < qc * (t0 * t0)) & (rise > qc * (t1 * t1)) &
+                                    (above > 0.0f) & (above * above > (4.0f - 0x1p-18f) * (rise * qc));
                 if (any<kNative>(inside)) {
                     // The peak's elevation, qb - 2 sqrt(rise qc); the root is kept finite where unused.
                     Floats root = max(rise * qc, Floats{});
