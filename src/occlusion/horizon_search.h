@@ -7,8 +7,8 @@ namespace strata::detail {
 
 // Marches each direction at params.marchStep (AoMethod::Brute and AoMethod::Paper).
 HorizonMap marchHorizons(const Image& depth, const AoParams& params);
-// The sweep's SIMD kernels: 8 lanes with SSE2 (any x86-64, or GCC's generic vectors elsewhere) or AVX2,
-// 16 lanes with AVX-512 (F, VL, BW, DQ). They compute the same numbers bit for bit. Auto, the default,
+// The sweep's SIMD kernels: 4 lanes with the baseline ISA (SSE2 on x86-64, NEON on AArch64), 8 with
+// AVX2, 16 with AVX-512 (F, VL, BW, DQ). They compute the same numbers bit for bit. Auto, the default,
 // is the widest that this CPU runs; the others are there for tests and benchmarks.
 enum class SweepKernel { Auto, Portable, Avx2, Avx512 };
 // Whether this CPU (and build) runs `kernel`; Auto and Portable always do.

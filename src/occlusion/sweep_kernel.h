@@ -22,14 +22,8 @@
 [[gnu::always_inline]] inline Floats max(Floats a, Floats b) {
     return a > b ? a : b;
 }
-[[gnu::always_inline]] inline Floats min(Floats a, Floats b) {
-    return a < b ? a : b;
-}
 [[gnu::always_inline]] inline Ints max(Ints a, Ints b) {
     return a > b ? a : b;
-}
-[[gnu::always_inline]] inline Ints min(Ints a, Ints b) {
-    return a < b ? a : b;
 }
 // The stack slot d of every lane: (t, z) pairs, lane l of slot d at 2 (d kLanes + l).
 [[gnu::always_inline]] inline Ints slot(Ints d) {
@@ -210,6 +204,10 @@ template <bool kNative, int kSide>
     const auto dt = static_cast<float>(plan.dir.dt);
     const DirectionPlan::Side& w = plan.sides[kSide];
     HullStack hull{work.hull.data()};
+    // How far the point at t = to lies from the texel at t = from, on this side.
+    const auto away = [](auto from, auto to) __attribute__((always_inline)) {
+        return kSide == 0 ? from - to : to - from;
+    };
     int next = kSide == 0 ? 0 : static_cast<int>(plan.sampleT.size()) - 1;  // the next sample to push
     for (int i = 0; i < plan.sizeA; ++i) {
         const int k = kSide == 0 ? i : plan.sizeA - 1 - i;
@@ -226,7 +224,7 @@ template <bool kNative, int kSide>
             for (; next >= first; --next) push<kNative, false>(hull, {splat(t[next]), zAt(next)});
         }
         const Points h = tangent<kNative, kSide>(hull, {splat(tP), zP});
-        const Floats elevation = (h.z - zP) / (kSide == 0 ? tP - h.t : h.t - tP);
+        const Floats elevation = (h.z - zP) / away(tP, h.t);
         const Ints beyond = kSide == 0 ? h.t < t[first] : h.t > t[last];
         const Ints raises = elevation > best;
         const Ints unsure = beyond & raises;
@@ -237,18 +235,16 @@ template <bool kNative, int kSide>
             for (int r = (kSide == 0 ? last : first) / kRun;; r += kSide == 0 ? -1 : 1) {
                 const int s0 = std::max(r * kRun, first);
                 const int s1 = std::min(r * kRun + kRun - 1, last);
-                const float nearest = kSide == 0 ? tP - t[s1] : t[s0] - tP;
+                const float nearest = away(tP, t[kSide == 0 ? s1 : s0]);
                 if (any<kNative>(unsure & ((load(runHighest + static_cast<std::ptrdiff_t>(r) * kLanes) - zP) >
                                            found * nearest))) {
                     // Divides only where a sample may beat found: rise > found (1 - 2^-20) distance holds
                     // for every sample whose elevation, rounded, exceeds found (>= 0).
                     const Floats margin = found * (1.0f - 0x1p-20f);
                     Ints beats{};
-                    for (int s = s0; s <= s1; ++s)
-                        beats |= (zAt(s) - zP) > margin * (kSide == 0 ? tP - t[s] : t[s] - tP);
+                    for (int s = s0; s <= s1; ++s) beats |= (zAt(s) - zP) > margin * away(tP, t[s]);
                     if (any<kNative>(unsure & beats))
-                        for (int s = s0; s <= s1; ++s)
-                            found = max(found, (zAt(s) - zP) / (kSide == 0 ? tP - t[s] : t[s] - tP));
+                        for (int s = s0; s <= s1; ++s) found = max(found, (zAt(s) - zP) / away(tP, t[s]));
                 }
                 if (r == (kSide == 0 ? first : last) / kRun) break;
             }
