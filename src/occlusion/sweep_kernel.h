@@ -4,6 +4,7 @@
 //   kLanes, Floats and Ints (GCC vector types of kLanes lanes), kLaneIndex = {0, 1, ..., kLanes - 1},
 //   struct Points { Floats t, z; }, any<kNative>(Ints) (whether any lane is set),
 //   gather(const float*, Ints) / scatter(float*, Ints, const Points&) of (t, z) at hull slots,
+//   kHeld (how many of each stack's top slots are held in registers: 4, or 7 where there are 32),
 // and after DirectionPlan, NearStencil, PaddedRelief, GroupWork, kNear and kRun. No include guard, and
 // no includes of its own: the file including it has them all.
 // NOLINTBEGIN(llvm-header-guard)
@@ -116,34 +117,51 @@ template <int kSide>
     return (kSide == 0 ? orient(a, q, b) : orient(b, q, a)) > 0.0f;
 }
 
-// Each lane's upper hull on a stack, slot d at d kLanes + lane, with its top four slots also in
-// registers: the slot under them is read two pops ahead, so that the read is not on the path that
-// decides whether to pop again.
+// Each lane's upper hull on a stack, slot d at d kLanes + lane, with its top kHeld slots also in
+// registers. A pop reads the slot under them, kHeld - 2 pops ahead of the test that would need it, so
+// the read is not on the path that decides whether to pop again; and most tangents are found among
+// them (tangent()). With 32 vector registers (AVX-512) 7 slots take 14 of them and beat 4 by 5 % on 2
+// threads and 10 % on one (512^2, R = 1 tile; 5 and 6 lie in between, 8 is no faster). With 16
+// (SSE2, AVX2) 7 slots spill: 8 % slower with SSE2, no faster with AVX2.
+static_assert(kHeld == 4 || kHeld == 7);
 struct HullStack {
     float* points;
     Ints size{};
-    Points top{};  // slots size, size - 1, size - 2, size - 3
-    Points below{};
-    Points under{};
-    Points deep{};
+    Points top{};  // slots size, size - 1, ..., size - kHeld + 1
+    Points second{};
+    Points third{};
+    Points fourth{};
+    Points fifth{};  // these three only with kHeld = 7
+    Points sixth{};
+    Points seventh{};
 };
 
 // The vertex of each lane's upper hull that q sees highest, i.e. the tangent from q (the hull's points
 // all lie on one side of q in t, its top nearest). The elevation seen from q rises along the hull from
-// its top to that vertex and falls beyond, so the search walks down from the top: the top four slots
-// are in registers, and the tangent is among the top three for 70 % of the lanes and the top four for
-// 80 % (512^2, R = 1); below them it reads two slots a step, both before either comparison.
+// its top to that vertex and falls beyond, so the search walks down from the top: through the held
+// slots first, then reading two slots a step, both before either comparison.
 template <bool kNative, int kSide>
 [[gnu::always_inline]] inline Points tangent(const HullStack& h, const Points& q) {
-    Ints down = (h.size >= 2) & seesHigher<kSide>(q, h.top, h.below);
+    Ints down = (h.size >= 2) & seesHigher<kSide>(q, h.top, h.second);
     Ints c = h.size + down;
-    Points at = select(down, h.below, h.top);
-    down &= (h.size >= 3) & seesHigher<kSide>(q, at, h.under);
+    Points at = select(down, h.second, h.top);
+    down &= (h.size >= 3) & seesHigher<kSide>(q, at, h.third);
     c += down;
-    at = select(down, h.under, at);
-    down &= (h.size >= 4) & seesHigher<kSide>(q, at, h.deep);
+    at = select(down, h.third, at);
+    down &= (h.size >= 4) & seesHigher<kSide>(q, at, h.fourth);
     c += down;
-    at = select(down, h.deep, at);
+    at = select(down, h.fourth, at);
+    if constexpr (kHeld == 7) {
+        down &= (h.size >= 5) & seesHigher<kSide>(q, at, h.fifth);
+        c += down;
+        at = select(down, h.fifth, at);
+        down &= (h.size >= 6) & seesHigher<kSide>(q, at, h.sixth);
+        c += down;
+        at = select(down, h.sixth, at);
+        down &= (h.size >= 7) & seesHigher<kSide>(q, at, h.seventh);
+        c += down;
+        at = select(down, h.seventh, at);
+    }
     while (any<kNative>(down)) {
         const Points one = gather(h.points, slot(max(c - 1, Ints{})));
         const Points two = gather(h.points, slot(max(c - 2, Ints{})));
@@ -161,22 +179,32 @@ template <bool kNative, int kSide>
 template <bool kNative, bool kForward>
 [[gnu::always_inline]] inline void push(HullStack& h, const Points& p) {
     for (;;) {
-        const Floats o = kForward ? orient(h.below, h.top, p) : orient(p, h.top, h.below);
+        const Floats o = kForward ? orient(h.second, h.top, p) : orient(p, h.top, h.second);
         const Ints pop = (h.size >= 2) & (o >= 0.0f);
         if (!any<kNative>(pop)) break;
         h.size += pop;
-        h.top = select(pop, h.below, h.top);
-        h.below = select(pop, h.under, h.below);
-        h.under = select(pop, h.deep, h.under);
-        const Ints s = slot(max(h.size - 3, Ints{}));
-        h.deep = select(pop, gather(h.points, s), h.deep);
+        h.top = select(pop, h.second, h.top);
+        h.second = select(pop, h.third, h.second);
+        h.third = select(pop, h.fourth, h.third);
+        if constexpr (kHeld == 7) {
+            h.fourth = select(pop, h.fifth, h.fourth);
+            h.fifth = select(pop, h.sixth, h.fifth);
+            h.sixth = select(pop, h.seventh, h.sixth);
+            h.seventh = select(pop, gather(h.points, slot(max(h.size - 6, Ints{}))), h.seventh);
+        } else {
+            h.fourth = select(pop, gather(h.points, slot(max(h.size - 3, Ints{}))), h.fourth);
+        }
     }
     h.size += 1;
-    const Ints at = slot(h.size);
-    scatter(h.points, at, p);
-    h.deep = h.under;
-    h.under = h.below;
-    h.below = h.top;
+    scatter(h.points, slot(h.size), p);
+    if constexpr (kHeld == 7) {
+        h.seventh = h.sixth;
+        h.sixth = h.fifth;
+        h.fifth = h.fourth;
+    }
+    h.fourth = h.third;
+    h.third = h.second;
+    h.second = h.top;
     h.top = p;
 }
 
