@@ -139,7 +139,8 @@ struct HullStack {
 // The vertex of each lane's upper hull that q sees highest, i.e. the tangent from q (the hull's points
 // all lie on one side of q in t, its top nearest). The elevation seen from q rises along the hull from
 // its top to that vertex and falls beyond, so the search walks down from the top: through the held
-// slots first, then reading two slots a step, both before either comparison.
+// slots first, then reading two slots a step, both before either comparison. The steps are written out:
+// the same step as an always-inlined function or lambda made GCC 12's code 6-9 % slower overall.
 template <bool kNative, int kSide>
 [[gnu::always_inline]] inline Points tangent(const HullStack& h, const Points& q) {
     Ints down = (h.size >= 2) & seesHigher<kSide>(q, h.top, h.second);
