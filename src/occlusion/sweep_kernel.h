@@ -120,8 +120,8 @@ template <int kSide>
 // Each lane's upper hull on a stack, slot d at d kLanes + lane, with its top kHeld slots also in
 // registers. A pop reads the slot under them, kHeld - 2 pops ahead of the test that would need it, so
 // the read is not on the path that decides whether to pop again; and most tangents are found among
-// them (tangent()). With 32 vector registers (AVX-512) 7 slots take 14 of them and beat 4 by 5 % on 2
-// threads and 10 % on one (512^2, R = 1 tile; 5 and 6 lie in between, 8 is no faster). With 16
+// them (tangent()). With 32 vector registers (AVX-512) 7 slots take 14 of them and beat 4 by 2-6 % on 2
+// threads and 4-10 % on one (512^2, R = 1 tile; 5 and 6 lie in between, 8 is no faster). With 16
 // (SSE2, AVX2) 7 slots spill: 8 % slower with SSE2, no faster with AVX2.
 static_assert(kHeld == 4 || kHeld == 7);
 struct HullStack {
