@@ -364,7 +364,7 @@ using Floats = float __attribute__((vector_size(kLanes * sizeof(float))));
 using Ints = std::int32_t __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
 using Words = long long __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
 constexpr Ints kLaneIndex = {0, 1, 2, 3, 4, 5, 6, 7};
-constexpr int kHeld = 4;  // hull slots in registers (sweep_kernel.h): 16 registers hold no more
+constexpr int kHeld = 4;  // hull slots in registers (sweep_kernel.h): 7 spill with 16 registers
 
 // Whether any lane is set. kNative: one VPTEST, in code that only runs inside a function compiled for
 // AVX2 (the builtin, unlike its intrinsic, may sit in a function inlined into one).
@@ -404,7 +404,7 @@ using Floats = float __attribute__((vector_size(kLanes * sizeof(float))));
 using Ints = std::int32_t __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
 using Words = long long __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
 constexpr Ints kLaneIndex = {0, 1, 2, 3};
-constexpr int kHeld = 4;  // hull slots in registers (sweep_kernel.h): 16 registers hold no more
+constexpr int kHeld = 4;  // hull slots in registers (sweep_kernel.h): 7 spill with 16 registers
 
 template <bool>
 [[gnu::always_inline]] inline bool any(Ints mask) {
