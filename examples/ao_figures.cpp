@@ -6,7 +6,7 @@
 //
 // Writes <out>/ao_methods_stone_bricks.png and prints markdown tables on stdout.
 #include "strata/compose/compose.h"
-#include "strata/compose/material.h"
+#include "strata/scene/material.h"
 #include "strata/image/image_io.h"
 #include "strata/image/image_ops.h"
 #include "strata/occlusion/ambient_occlusion.h"

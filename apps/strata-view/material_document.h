@@ -1,8 +1,8 @@
-// The material the viewer edits: a strata::Material (compose/material.h, the same struct `strata compose`
+// The material the viewer edits: a strata::Material (scene/material.h, the same struct `strata compose`
 // reads), how the viewer opens one, the edits its Layers panel makes, and writing it back as JSON.
 #pragma once
 
-#include "strata/compose/material.h"
+#include "strata/scene/material.h"
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -26,7 +26,7 @@ MaterialLayer patternLayer(const std::string& pattern, int size = 512, std::uint
 
 // A file layer: `depthOrHeight` read as depth (0 = top) or, with `isHeight`, as height (white = high);
 // optional normal map (OpenGL convention) and colour map (empty paths: none). Throws Error(Io) naming the
-// file if one does not exist. The maps are read by loadLayers (compose/material.h).
+// file if one does not exist. The maps are read by loadLayers (scene/material.h).
 MaterialLayer fileLayer(const std::filesystem::path& depthOrHeight, bool isHeight,
                         const std::filesystem::path& normal, const std::filesystem::path& color);
 

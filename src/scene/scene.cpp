@@ -1,6 +1,6 @@
 #include "strata/scene/scene.h"
 
-#include "strata/compose/material.h"
+#include "strata/scene/material.h"
 #include "strata/core/error.h"
 #include "strata/core/file.h"
 #include "strata/mesh/builtin_meshes.h"

@@ -1,7 +1,7 @@
 // The `strata` CLI end to end: documented exit codes, outputs, and nothing written on failure.
 #include "test_support.h"
 
-#include "strata/compose/material.h"
+#include "strata/scene/material.h"
 #include "strata/image/image_io.h"
 #include "strata/occlusion/ambient_occlusion.h"
 #include "strata/relief/patterns.h"

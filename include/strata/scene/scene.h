@@ -28,7 +28,7 @@
 // §7). Relative paths are relative to the scene file.
 #pragma once
 
-#include "strata/compose/material.h"
+#include "strata/scene/material.h"
 #include "strata/mesh/mesh.h"
 #include "strata/relief/relief_texture.h"
 #include "strata/scene/camera.h"

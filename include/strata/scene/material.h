@@ -1,12 +1,16 @@
+// clang-format off
 // The meta-relief material file (JSON): a list of layers and how to combine them.
 // docs/material.md documents every key; examples/*.json are working materials.
 //
-//   { "resolution": 1024, "depth_scale": 0.08, "normals": "paper", "color_from": 1,
+//   {
+//     "resolution": 1024, "depth_scale": 0.08, "normals": "paper", "color_from": 1,
 //     "layers": [
-//       { "pattern": "base", "size": 1024, "seed": 1, "tiling": 1.0, "weight_depth": 1.0,
-//       "weight_normal": 1.0 }, { "depth": "fabric_depth.png", "normal": "fabric_normal.png", "color":
-//       "fabric.png",
-//         "tiling": 5.5, "weight_depth": 0.3, "weight_normal": 0.3 } ] }
+//       { "pattern": "base", "size": 1024, "seed": 1,
+//         "tiling": 1.0, "weight_depth": 1.0, "weight_normal": 1.0 },
+//       { "depth": "fabric_depth.png", "normal": "fabric_normal.png", "color": "fabric.png",
+//         "tiling": 5.5, "weight_depth": 0.3, "weight_normal": 0.3 }
+//     ]
+//   }
 //
 // A layer is either a built-in pattern ("pattern", with "size", "seed", "depth_scale" defaulting to the
 // pattern defaults of PatternParams, so the layer equals `strata pattern NAME` with the same flags) or
@@ -22,6 +26,7 @@
 // (Error(Io) for a missing file) whose message is "<file>: <key path>: <what is wrong>", e.g.
 // "shaped.json: layers[1].weight_depth: must be >= 0, got -0.3". Nothing is written for a rejected
 // material: callers load everything before writing anything.
+// clang-format on
 #pragma once
 
 #include "strata/compose/compose.h"

@@ -1,4 +1,4 @@
-#include "strata/compose/material.h"
+#include "strata/scene/material.h"
 
 #include "strata/core/error.h"
 #include "strata/core/file.h"

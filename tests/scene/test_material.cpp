@@ -1,7 +1,7 @@
 // The material file: strict parsing with errors that name the key, and loading layers.
 #include "test_support.h"
 
-#include "strata/compose/material.h"
+#include "strata/scene/material.h"
 #include "strata/core/error.h"
 #include "strata/image/image_io.h"
 #include "strata/relief/patterns.h"
