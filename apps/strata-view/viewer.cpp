@@ -360,9 +360,7 @@ void runViewer(const ViewerOptions& options) {
     Material material = openMaterial(options.material.empty() ? scene.material : options.material);
     Mesh mesh = loadSceneMesh(scene);
     if (!options.screenshot.empty()) {
-        std::string extension = options.screenshot.extension().string();
-        for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-        if (extension != ".png")
+        if (lowerCaseExtension(options.screenshot) != ".png")
             throw Error(ErrorKind::Unsupported,
                         options.screenshot.string() + ": --screenshot writes PNG only (a .png file name)");
         std::vector<fs::path> inputs = materialInputs(material);

@@ -44,10 +44,7 @@ fs::path sidecarPathFor(const fs::path& output) {
 }
 
 bool isPngName(const fs::path& path) {
-    std::string extension = path.extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return extension == ".png";
+    return lowerCaseExtension(path) == ".png";
 }
 
 DepthInput readDepthInput(const fs::path& path, bool height, const std::string& command) {

@@ -8,6 +8,7 @@
 #include "strata/core/file.h"
 #include "strata/core/version.h"
 #include "strata/image/image_io.h"
+#include "strata/image/quantize.h"
 #include "strata/relief/cone_map.h"
 
 #include <nlohmann/json.hpp>
@@ -45,8 +46,7 @@ void runConeMap(const ConeMapCommandOptions& options) {
         refuseToOverwriteInputs(output, input.inputs);
     // The cones must describe the height field a shader will sample: the depth as a 16-bit texture holds
     // it (the file's own values for a 16-bit map).
-    for (float& d : input.depth.pixels())
-        d = static_cast<float>(std::lround(std::clamp(d, 0.0f, 1.0f) * 65535.0f)) / 65535.0f;
+    for (float& d : input.depth.pixels()) d = quantizeUnorm16(d);
 
     ConeMapOptions coneOptions;
     coneOptions.depthLevels = options.depthLevels;

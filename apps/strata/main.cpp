@@ -36,15 +36,8 @@ int main(int argc, char** argv) {
         // --help and --version are "errors" with exit code 0 to CLI11; everything else is usage.
         const int code = app.exit(e);
         return code == 0 ? 0 : strata::exitCode(strata::ErrorKind::Usage);
-    } catch (const strata::Error& e) {
-        std::cerr << "strata: error: " << e.what() << "\n";
-        return strata::exitCode(e.kind());
-    } catch (const std::bad_alloc&) {
-        std::cerr << "strata: error: out of memory\n";
-        return strata::exitCode(strata::ErrorKind::Runtime);
-    } catch (const std::exception& e) {
-        std::cerr << "strata: error: " << e.what() << "\n";
-        return strata::exitCode(strata::ErrorKind::Runtime);
+    } catch (...) {
+        return strata::reportCurrentException("strata");
     }
     return 0;
 }

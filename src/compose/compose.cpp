@@ -2,9 +2,7 @@
 
 #include "strata/core/check.h"
 #include "strata/core/error.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "strata/core/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -238,9 +236,9 @@ void composeInto(std::span<const CompositionLayer> layers, const ComposeParams& 
 
     // Row by row, layer by layer: each layer's row taps are fetched once per row, and the inner
     // loops have no per-texel branching.
-    tbb::parallel_for(tbb::blocked_range<int>(0, size), [&](const tbb::blocked_range<int>& range) {
+    parallelForChunks(0, size, [&](int rowBegin, int rowEnd) {
         std::vector<float> gradientRow(2 * static_cast<std::size_t>(size));
-        for (int y = range.begin(); y < range.end(); ++y) {
+        for (int y = rowBegin; y < rowEnd; ++y) {
             float* depthRow = out.depth.row(y);
             float* normalRow = out.normal.row(y);
             std::fill(depthRow, depthRow + size, 0.0f);
@@ -279,7 +277,7 @@ void composeInto(std::span<const CompositionLayer> layers, const ComposeParams& 
         const SampledMap color(layer.texture.color, size, layer.tiling);
         const int channels = layer.texture.color.channels();
         reshape(out.color, size, size, channels);
-        tbb::parallel_for(0, size, [&](int y) {
+        parallelFor(0, size, [&](int y) {
             float* row = out.color.row(y);
             std::fill(row, row + channels * size, 0.0f);
             color.accumulateRow(y, 1.0f, row);

@@ -1,8 +1,11 @@
 #include "strata/core/error.h"
+
 #include "strata/core/check.h"
 
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
+#include <new>
 #include <sstream>
 
 namespace strata {
@@ -37,4 +40,22 @@ void checkFailed(const char* file, int line, const std::string& what) {
 }
 
 }  // namespace detail
+int reportCurrentException(const char* program) noexcept {
+    const auto report = [program](const char* message, ErrorKind kind) {
+        std::cerr << program << ": error: " << message << "\n";
+        return exitCode(kind);
+    };
+    try {
+        throw;
+    } catch (const Error& e) {
+        return report(e.what(), e.kind());
+    } catch (const std::bad_alloc&) {
+        return report("out of memory", ErrorKind::Runtime);
+    } catch (const std::exception& e) {
+        return report(e.what(), ErrorKind::Runtime);
+    } catch (...) {
+        return report("unknown failure", ErrorKind::Runtime);
+    }
+}
+
 }  // namespace strata

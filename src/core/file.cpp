@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 #include <atomic>
+#include <cctype>
 #include <fstream>
 #include <iterator>
 #include <system_error>
@@ -78,6 +79,12 @@ void refuseToOverwriteInputs(const fs::path& output, const std::vector<fs::path>
         if (fs::exists(input, ec) && fs::equivalent(output, input, ec))
             throw Error(ErrorKind::Io, output.string() + ": refusing to overwrite an input file");
     }
+}
+
+std::string lowerCaseExtension(const fs::path& path) {
+    std::string extension = path.extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return extension;
 }
 
 }  // namespace strata

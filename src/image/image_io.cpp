@@ -4,6 +4,7 @@
 #include "strata/core/error.h"
 #include "strata/core/file.h"
 #include "strata/image/image_ops.h"
+#include "strata/image/quantize.h"
 
 #include <algorithm>
 #include <cctype>
@@ -354,7 +355,7 @@ std::vector<png_byte> quantizeForPng(const Image& image, const PngWriteOptions& 
             for (int c = 0; c < channels; ++c) {
                 const double v = unitClamp(row[x * channels + c]);
                 if (sixteen) {
-                    const auto q = static_cast<unsigned>(std::floor(v * 65535.0 + 0.5));
+                    const unsigned q = toUnorm16(v);
                     data[at++] = static_cast<png_byte>(q >> 8);  // PNG stores 16-bit samples big-endian
                     data[at++] = static_cast<png_byte>(q & 0xff);
                 } else {
@@ -747,13 +748,6 @@ LoadedFile loadFile(const fs::path& path) {
     return file;
 }
 
-std::string lowercaseExtension(const fs::path& path) {
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext;
-}
-
 }  // namespace
 
 const char* toString(ImageFormat format) {
@@ -829,7 +823,7 @@ void writeExr(const fs::path& path, const Image& image) {
 }
 
 void writeImage(const fs::path& path, const Image& image, const PngWriteOptions& options) {
-    const std::string ext = lowercaseExtension(path);
+    const std::string ext = lowerCaseExtension(path);
     if (ext == ".png") return writePng(path, image, options);
     if (ext == ".exr") return writeExr(path, image);
     fail(ErrorKind::Unsupported, path,

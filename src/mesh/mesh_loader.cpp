@@ -1,6 +1,7 @@
 #include "strata/mesh/mesh_loader.h"
 
 #include "strata/core/error.h"
+#include "strata/core/file.h"
 #include "strata/mesh/tangent_space.h"
 
 #include <glm/geometric.hpp>
@@ -501,13 +502,6 @@ void assignPlanarUvs(Mesh& mesh) {
     }
 }
 
-std::string lowerExtension(const fs::path& path) {
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext;
-}
-
 }  // namespace
 
 Mesh loadMesh(const fs::path& path, const MeshLoadOptions& options) {
@@ -517,7 +511,7 @@ Mesh loadMesh(const fs::path& path, const MeshLoadOptions& options) {
 
 Mesh loadMesh(const fs::path& path, const MeshLoadOptions& options, MeshRepairReport& report) {
     report = {};
-    const std::string ext = lowerExtension(path);
+    const std::string ext = lowerCaseExtension(path);
     if (ext != ".obj" && ext != ".gltf" && ext != ".glb" && ext != ".off") {
         throw Error(ErrorKind::Unsupported, path.string() + ": unsupported mesh format '" + ext +
                                                 "' (Strata reads .obj, .gltf, .glb and .off)");

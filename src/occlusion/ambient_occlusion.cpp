@@ -7,9 +7,7 @@
 #include "shared/ao_rescale.h"
 #include "strata/core/check.h"
 #include "strata/core/error.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "strata/core/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -41,14 +39,6 @@ void validate(const Image& depth, const AoParams& params) {
     requireRange("filter sigma", params.filterSigma, 0.0, 16.0, true);
 }
 
-// Runs body(y) for every row y in [0, height), in parallel.
-template <typename Body>
-void forEachRow(int height, const Body& body) {
-    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y != rows.end(); ++y) body(y);
-    });
-}
-
 bool anyOccluded(std::span<const float> tans) {
     return std::any_of(tans.begin(), tans.end(), [](float t) { return t > 0.0f; });
 }
@@ -66,7 +56,7 @@ Image HorizonMap::ao(double s) const {
     STRATA_CHECK_EQ(tanHorizon.size(), static_cast<std::size_t>(width) * static_cast<std::size_t>(height) *
                                            static_cast<std::size_t>(directions));
     Image out = Image::uninitialized(width, height, 1);
-    forEachRow(height, [&](int y) {
+    parallelFor(0, height, [&](int y) {
         for (int x = 0; x < width; ++x) out.at(x, y) = aoAt(x, y, s);
     });
     return out;
@@ -98,7 +88,7 @@ HorizonMap detail::marchHorizons(const Image& depth, const AoParams& params) {
         // Cell by cell along each texel's own line: exact for the bilinear relief.
         std::vector<detail::LineDirection> directions;
         for (int i = 0; i < m; ++i) directions.emplace_back(2.0 * kPi * i / m, w, h);
-        forEachRow(h, [&](int y) {
+        parallelFor(0, h, [&](int y) {
             for (int x = 0; x < w; ++x) {
                 float* out =
                     result.tanHorizon.data() + (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
@@ -129,7 +119,7 @@ HorizonMap detail::marchHorizons(const Image& depth, const AoParams& params) {
         stepY[static_cast<std::size_t>(i)] = -std::sin(phi) * dt * h;
     }
 
-    forEachRow(h, [&](int y) {
+    parallelFor(0, h, [&](int y) {
         for (int x = 0; x < w; ++x) {
             const double d0 = depth.at(x, y);
             // No sample can rise above S (d0 - min d) / t: the early stop below changes nothing.
@@ -193,7 +183,7 @@ Image polygonAo(const HorizonMap& horizons, AoNormalize normalize, double s) {
     // area = 1/2 sin(2 pi / M) sum_i cos h_i cos h_(i+1); divided by pi or by (M/2) sin(2 pi / M).
     const double factor = normalize == AoNormalize::Open ? 1.0 / m : 0.5 * std::sin(2.0 * kPi / m) / kPi;
     Image out = Image::uninitialized(horizons.width, horizons.height, 1);
-    forEachRow(horizons.height, [&](int y) {
+    parallelFor(0, horizons.height, [&](int y) {
         std::vector<double> cosH(static_cast<std::size_t>(m));
         for (int x = 0; x < horizons.width; ++x) {
             const std::span<const float> tans = horizons.texel(x, y);
@@ -228,7 +218,7 @@ Image filterOccluded(const Image& ao, const HorizonMap& horizons, int radius, do
     for (double& weight : kernel) weight /= total;
 
     Image out = ao;
-    forEachRow(ao.height(), [&](int y) {
+    parallelFor(0, ao.height(), [&](int y) {
         for (int x = 0; x < ao.width(); ++x) {
             if (!anyOccluded(horizons.texel(x, y))) continue;
             double sum = 0.0;
@@ -306,7 +296,7 @@ Image combineAo(std::span<const AoLayer> layers, AoCombine mode, int resolution)
                     "combine ambient occlusion: resolution = " + std::to_string(resolution) +
                         " is outside [1, " + std::to_string(Image::kMaxDimension) + "]");
     Image out = Image::uninitialized(resolution, resolution, 1);
-    forEachRow(resolution, [&](int y) {
+    parallelFor(0, resolution, [&](int y) {
         for (int x = 0; x < resolution; ++x) {
             const double u = out.texelU(x);
             const double v = out.texelV(y);

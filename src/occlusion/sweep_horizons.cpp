@@ -34,13 +34,12 @@
 #include "horizon_search.h"
 #include "strata/core/error.h"
 
+#include "strata/core/parallel.h"
 #if defined(__x86_64__) || defined(__i386__)
 #define STRATA_SWEEP_X86
 #include <immintrin.h>  // the AVX2 and AVX-512 builtins and intrinsics
 #endif
-#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
 #include <algorithm>
@@ -102,18 +101,17 @@ public:
           // Every entry is written below: no zero fill (the map is twice the depth map's size).
           mZ(std::make_unique_for_overwrite<float[]>(static_cast<std::size_t>(mStride) *
                                                      static_cast<std::size_t>(mSizeA + 2 * kPad))) {
-        tbb::parallel_for(tbb::blocked_range<int>(-kPad, mSizeA + kPad),
-                          [&](const tbb::blocked_range<int>& as) {
-                              for (int a = as.begin(); a != as.end(); ++a) {
-                                  const int aw = MajorMinorDepth::wrap(a, mSizeA);
-                                  float* column = mZ.get() + index(a, -kPad);
-                                  int bw = MajorMinorDepth::wrap(-kPad, mSizeB);
-                                  for (int b = -kPad; b < 2 * mSizeB + kPad + kMaxLanes; ++b) {
-                                      *column++ = -scale * (xMajor ? depth.at(aw, bw) : depth.at(bw, aw));
-                                      if (++bw == mSizeB) bw = 0;
-                                  }
-                              }
-                          });
+        parallelForChunks(-kPad, mSizeA + kPad, [&](int first, int last) {
+            for (int a = first; a != last; ++a) {
+                const int aw = MajorMinorDepth::wrap(a, mSizeA);
+                float* column = mZ.get() + index(a, -kPad);
+                int bw = MajorMinorDepth::wrap(-kPad, mSizeB);
+                for (int b = -kPad; b < 2 * mSizeB + kPad + kMaxLanes; ++b) {
+                    *column++ = -scale * (xMajor ? depth.at(aw, bw) : depth.at(bw, aw));
+                    if (++bw == mSizeB) bw = 0;
+                }
+            }
+        });
     }
     // a in [-kPad, sizeA + kPad), b in [-kPad, 2 sizeB + kPad + kMaxLanes).
     std::ptrdiff_t index(int a, int b) const {
@@ -559,9 +557,9 @@ void sweep(const Image& depth, const AoParams& params, const SweepOptions& optio
         const PaddedRelief& relief = plan.dir.xMajor ? byColumns : byRows;
         const int sizeB = relief.sizeB();
         const int groups = (sizeB + kernel.lanes - 1) / kernel.lanes;
-        tbb::parallel_for(tbb::blocked_range<int>(0, groups), [&](const tbb::blocked_range<int>& range) {
+        parallelForChunks(0, groups, [&](int first, int last) {
             GroupWork& work = works.local();
-            for (int g = range.begin(); g != range.end(); ++g) {
+            for (int g = first; g != last; ++g) {
                 const int j = g * kernel.lanes;
                 const int lanes = std::min(kernel.lanes, sizeB - j);
                 kernel.horizons(relief, plan, j, work, cosineWeights);
@@ -689,8 +687,8 @@ Image sweepAo(const Image& depth, const AoParams& params, const SweepOptions& op
     // The mean, divided once at the end: a fully open texel sums to exactly M and gives exactly 1.
     Image ao(w, h, 1, 0.0f);
     const auto directions = static_cast<float>(params.directions);
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& ys) {
-        for (int y = ys.begin(); y != ys.end(); ++y)
+    parallelForChunks(0, h, [&](int rowBegin, int rowEnd) {
+        for (int y = rowBegin; y != rowEnd; ++y)
             for (int x = 0; x < w; ++x)
                 ao.at(x, y) = (byRows[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
                                       static_cast<std::size_t>(x)] +

@@ -52,9 +52,8 @@
 
 #include "strata/core/check.h"
 #include "strata/core/error.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "strata/core/parallel.h"
+#include "strata/image/quantize.h"
 
 #include <algorithm>
 #include <array>
@@ -91,13 +90,6 @@ void validate(const Image& depth, const ConeMapOptions& options) {
                                                  " is not a finite number >= 0");
 }
 
-// Runs body(begin, end) over [0, count) in parallel chunks.
-template <typename Body>
-void parallelChunks(int count, const Body& body) {
-    tbb::parallel_for(tbb::blocked_range<int>(0, count),
-                      [&](const tbb::blocked_range<int>& range) { body(range.begin(), range.end()); });
-}
-
 // Per-cell inputs of the bounds, in frame order (index y * W + x).
 struct Cells {
     int width = 0;
@@ -117,7 +109,7 @@ Cells makeCells(const Image& depth) {
     cells.highest.resize(count);
     cells.deepest.resize(count);
     cells.slope2.resize(count);
-    parallelChunks(height, [&](int y0, int y1) {
+    parallelForChunks(0, height, [&](int y0, int y1) {
         for (int y = y0; y < y1; ++y) {
             // Frame row y is image row H - 1 - y (max_mip.h), so frame row y + 1 is the image row above.
             const float* low = depth.row(height - 1 - y);
@@ -140,7 +132,7 @@ Cells makeCells(const Image& depth) {
 // through `scratch` (same size).
 template <typename Pick>
 void filter3(std::vector<float>& values, std::vector<float>& scratch, int width, int height, Pick pick) {
-    parallelChunks(height, [&](int y0, int y1) {
+    parallelForChunks(0, height, [&](int y0, int y1) {
         for (int y = y0; y < y1; ++y) {
             const float* in = values.data() + static_cast<std::size_t>(y) * width;
             float* o = scratch.data() + static_cast<std::size_t>(y) * width;
@@ -148,7 +140,7 @@ void filter3(std::vector<float>& values, std::vector<float>& scratch, int width,
                 o[x] = pick(pick(in[x == 0 ? width - 1 : x - 1], in[x]), in[x + 1 == width ? 0 : x + 1]);
         }
     });
-    parallelChunks(height, [&](int y0, int y1) {
+    parallelForChunks(0, height, [&](int y0, int y1) {
         for (int y = y0; y < y1; ++y) {
             const float* below =
                 scratch.data() + static_cast<std::size_t>(y == 0 ? height - 1 : y - 1) * width;
@@ -192,7 +184,7 @@ public:
                 filter3(slope2, scratch, mWidth, mHeight, pickMax);
                 filter3(highest, scratch, mWidth, mHeight, pickMin);
             }
-            parallelChunks(mHeight, [&](int y0, int y1) {
+            parallelForChunks(0, mHeight, [&](int y0, int y1) {
                 for (std::size_t i = mCells.index(0, y0); i < mCells.index(0, y1); ++i) {
                     const bool bounded = slope2[i] > 0.0f && highest[i] < cells.deepest[i];
                     mRadii[i].near2[r] = bounded ? 1.0f / slope2[i] : kInf;
@@ -201,7 +193,7 @@ public:
             });
         }
         mBound2.resize(count);
-        parallelChunks(mHeight, [&](int y0, int y1) {
+        parallelForChunks(0, mHeight, [&](int y0, int y1) {
             for (std::size_t i = mCells.index(0, y0); i < mCells.index(0, y1); ++i)
                 mBound2[i] = boundOf(mRadii[i]);
         });
@@ -214,7 +206,7 @@ public:
     void run() {
         if (mBandLo.empty()) return;
         // The first band's caps, row by row; later bands get theirs from the band before (fold).
-        parallelChunks(mHeight, [&](int y0, int y1) {
+        parallelForChunks(0, mHeight, [&](int y0, int y1) {
             for (int y = y0; y < y1; ++y) {
                 float cap2 = 0.0f;
                 for (std::size_t i = mCells.index(0, y); i < mCells.index(0, y + 1); ++i) {
@@ -310,7 +302,7 @@ private:
         const auto limit = static_cast<std::uint16_t>(saturate);
         // A count saturates after `saturate` rows, so the warm-up needs no more of them.
         const int warm = std::min(mHeight, saturate);
-        parallelChunks(blocks, [&](int b0, int b1) {
+        parallelForChunks(0, blocks, [&](int b0, int b1) {
             std::array<std::uint16_t, kBlock> count;
             for (int b = b0; b < b1; ++b) {
                 const int x0 = b * kBlock, n = std::min(mWidth, x0 + kBlock) - x0;
@@ -346,7 +338,7 @@ private:
         columnPass(static_cast<std::uint16_t>(band), saturate);
         // Copies further than half a period or than the cap are never the nearest that matters.
         const int extend = std::min(mWidth / 2, static_cast<int>(std::floor(cap)));
-        parallelChunks(mHeight, [&](int y0, int y1) {
+        parallelForChunks(0, mHeight, [&](int y0, int y1) {
             RowBuffers buffers(static_cast<std::size_t>(mWidth),
                                static_cast<std::size_t>(mWidth + 2 * extend));
             for (int y = y0; y < y1; ++y) {
@@ -485,7 +477,7 @@ Image coneMap(const Image& depth, const ConeMapOptions& options) {
     ConeBounds bounds(cells, options.depthLevels, maxRatio);
     bounds.run();
     Image out = Image::uninitialized(depth.width(), depth.height(), 1);
-    parallelChunks(depth.height(), [&](int y0, int y1) {
+    parallelForChunks(0, depth.height(), [&](int y0, int y1) {
         for (int y = y0; y < y1; ++y)
             for (int x = 0; x < depth.width(); ++x) out.at(x, y) = bounds.ratio(cells.index(x, y), maxRatio);
     });
@@ -507,7 +499,7 @@ PackedConeMap packConeMap(const Image& depth, const ConeMapOptions& options) {
                 std::min({texel(x, y), texel(x + 1, y), texel(x, y + 1), texel(x + 1, y + 1)});
             // To 16 bits, never deeper than the cell's highest point (a depth that is already a 16-bit
             // value keeps it exactly).
-            long q = std::lround(std::clamp(highest, 0.0f, 1.0f) * 65535.0f);
+            long q = toUnorm16(highest);
             if (q > 0 && static_cast<float>(q) / 65535.0f > highest) --q;
             packed.texels.at(x, y, 0) = static_cast<float>(q) / 65535.0f;
             packed.texels.at(x, y, 1) =

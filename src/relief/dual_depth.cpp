@@ -5,11 +5,10 @@
 #include "strata/core/check.h"
 #include "strata/core/error.h"
 #include "strata/core/file.h"
+#include "strata/core/parallel.h"
 #include "strata/core/version.h"
 #include "strata/image/image_io.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
@@ -110,23 +109,24 @@ DualDepthTexture makeDualDepth(const Mesh& mesh, Axis axis, int size) {
 
     const std::size_t triangleCount = mesh.indices.size() / 3;
     std::vector<ProjectedTriangle> triangles(triangleCount);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangleCount, 4096),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                          for (std::size_t t = range.begin(); t != range.end(); ++t) {
-                              ProjectedTriangle& p = triangles[t];
-                              for (int k = 0; k < 3; ++k) {
-                                  const std::uint32_t index = mesh.indices[3 * t + std::size_t(k)];
-                                  STRATA_CHECK_LT(index, mesh.vertices.size());
-                                  const glm::dvec3 position(mesh.vertices[index].position);
-                                  p.index[std::size_t(k)] = index;
-                                  p.x[std::size_t(k)] = (position[ti] - originT) * texelsPerUnit - 0.5;
-                                  p.y[std::size_t(k)] = (topB - position[bi]) * texelsPerUnit - 0.5;
-                                  p.a[std::size_t(k)] = position[ni];
-                              }
-                              p.area2 = (p.x[1] - p.x[0]) * (p.y[2] - p.y[0]) -
-                                        (p.y[1] - p.y[0]) * (p.x[2] - p.x[0]);
-                          }
-                      });
+    parallelForChunks(
+        std::size_t{0}, triangleCount,
+        [&](std::size_t first, std::size_t last) {
+            for (std::size_t t = first; t != last; ++t) {
+                ProjectedTriangle& p = triangles[t];
+                for (int k = 0; k < 3; ++k) {
+                    const std::uint32_t index = mesh.indices[3 * t + std::size_t(k)];
+                    STRATA_CHECK_LT(index, mesh.vertices.size());
+                    const glm::dvec3 position(mesh.vertices[index].position);
+                    p.index[std::size_t(k)] = index;
+                    p.x[std::size_t(k)] = (position[ti] - originT) * texelsPerUnit - 0.5;
+                    p.y[std::size_t(k)] = (topB - position[bi]) * texelsPerUnit - 0.5;
+                    p.a[std::size_t(k)] = position[ni];
+                }
+                p.area2 = (p.x[1] - p.x[0]) * (p.y[2] - p.y[0]) - (p.y[1] - p.y[0]) * (p.x[2] - p.x[0]);
+            }
+        },
+        std::size_t{4096});
 
     // Bin each triangle to the row bands it spans, in triangle order, so that every band sees its
     // triangles in index order and ties resolve the same way on every run (the first triangle wins).
@@ -153,7 +153,7 @@ DualDepthTexture makeDualDepth(const Mesh& mesh, Axis axis, int size) {
     texture.back = Image::uninitialized(size, size, 1);
     texture.normal = Image::uninitialized(size, size, 3);
 
-    tbb::parallel_for(0, bandCount, [&](int band) {
+    parallelFor(0, bandCount, [&](int band) {
         const int row0 = band * kRowsPerBand;
         const int rows = std::min(kRowsPerBand, size - row0);
         const std::size_t count = std::size_t(rows) * std::size_t(size);

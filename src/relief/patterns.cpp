@@ -3,9 +3,7 @@
 #include "pattern_common.h"
 
 #include "strata/core/error.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "strata/core/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -69,7 +67,7 @@ struct DepthRange {
 DepthRange referenceDepthRange(const pattern::Generator& generator) {
     constexpr int kGrid = 256;
     std::vector<DepthRange> rowRanges(kGrid);
-    tbb::parallel_for(0, kGrid, [&](int y) {
+    parallelFor(0, kGrid, [&](int y) {
         DepthRange range{std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest()};
         for (int x = 0; x < kGrid; ++x) {
             const double depth = generator.evaluate({(x + 0.5) / kGrid, 1.0 - (y + 0.5) / kGrid}).depth;
@@ -138,8 +136,8 @@ ReliefTexture makePattern(const std::string& name, const PatternParams& params) 
     ReliefTexture texture;
     texture.depth = Image(size, size, 1);
     texture.color = Image(size, size, 3);
-    tbb::parallel_for(tbb::blocked_range<int>(0, size), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y != rows.end(); ++y)
+    parallelForChunks(0, size, [&](int rowBegin, int rowEnd) {
+        for (int y = rowBegin; y != rowEnd; ++y)
             for (int x = 0; x < size; ++x) {
                 double d = 0.0;
                 pattern::Vec3 c(0.0);

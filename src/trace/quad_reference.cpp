@@ -4,8 +4,8 @@
 
 #include "strata/core/check.h"
 #include "strata/core/error.h"
+#include "strata/core/parallel.h"
 
-#include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -150,7 +150,7 @@ QuadReferenceImages renderQuadReference(const HeightFieldTracer& tracer, const C
 
     QuadReferenceImages images{Image(width, height, 3), Image(width, height, 1), Image(width, height, 1),
                                Image(width, height, 1), Image(width, height, 1)};
-    tbb::parallel_for(0, height, [&](int y) {
+    parallelFor(0, height, [&](int y) {
         for (int x = 0; x < width; ++x) {
             const glm::dvec3 direction = pixelRayDirection(camera, width, height, x + 0.5, y + 0.5);
             const QuadReferenceSample sample = trace(tracer, camera.eye, direction, options);

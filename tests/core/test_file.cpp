@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <new>
 #include <stdexcept>
 
 namespace strata {
@@ -71,6 +72,32 @@ TEST(Error, KindsMapToTheDocumentedExitCodes) {
     EXPECT_EQ(exitCode(ErrorKind::Unsupported), 5);
     EXPECT_EQ(formatNumber(0.3), "0.3");
     EXPECT_EQ(formatNumber(-1.0), "-1");
+}
+
+TEST(File, LowerCaseExtension) {
+    EXPECT_EQ(lowerCaseExtension("Teapot.OBJ"), ".obj");
+    EXPECT_EQ(lowerCaseExtension("dir.d/photo.JpEg"), ".jpeg");
+    EXPECT_EQ(lowerCaseExtension("archive.tar.GZ"), ".gz");  // the last dot only
+    EXPECT_EQ(lowerCaseExtension("README"), "");
+    EXPECT_EQ(lowerCaseExtension(".hidden"), "");  // a leading dot names the file, not its extension
+}
+
+template <typename Thrower>
+int exitCodeOf(const Thrower& thrower) {
+    try {
+        thrower();
+    } catch (...) {
+        return reportCurrentException("test");
+    }
+    return 0;
+}
+
+TEST(Error, MainReportsEachExceptionWithItsExitCode) {
+    EXPECT_EQ(exitCodeOf([] { throw Error(ErrorKind::Io, "a.png: cannot read"); }), 2);
+    EXPECT_EQ(exitCodeOf([] { throw Error(ErrorKind::Unsupported, "x"); }), 5);
+    EXPECT_EQ(exitCodeOf([] { throw std::bad_alloc(); }), 4);
+    EXPECT_EQ(exitCodeOf([] { throw std::runtime_error("x"); }), 4);
+    EXPECT_EQ(exitCodeOf([] { throw 42; }), 4);
 }
 
 }  // namespace

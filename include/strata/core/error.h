@@ -12,12 +12,11 @@ namespace strata {
 
 // The kinds of failure, with the `strata` CLI exit code of each (docs/cli.md lists them).
 enum class ErrorKind {
-    Usage = 1,  // the command line is wrong: unknown flag, missing argument
-    Io = 2,     // a file or directory cannot be read or written
-    InvalidInput =
-        3,        // the input was read but its content is wrong: corrupt image, bad JSON key, negative weight
-    Runtime = 4,  // something failed while working on valid input
-    Unsupported = 5,  // a valid input that Strata does not handle: an image format variant, a bit depth
+    Usage = 1,         // the command line is wrong: unknown flag, missing argument
+    Io = 2,            // a file or directory cannot be read or written
+    InvalidInput = 3,  // read, but its content is wrong: a corrupt image, a bad JSON key, a negative weight
+    Runtime = 4,       // something failed while working on valid input
+    Unsupported = 5,   // a valid input that Strata does not handle: an image format variant, a bit depth
 };
 
 // The exit code the CLI returns for an error of this kind.
@@ -38,5 +37,10 @@ public:
 private:
     ErrorKind mKind;
 };
+
+// For a program's main(), inside `catch (...)`: prints "<program>: error: <message>" to stderr for the
+// exception in flight and returns its exit code: an Error's kind's, Runtime for std::bad_alloc ("out of
+// memory") and for any other exception.
+int reportCurrentException(const char* program) noexcept;
 
 }  // namespace strata

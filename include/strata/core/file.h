@@ -27,4 +27,7 @@ std::string readTextFile(const std::filesystem::path& path);
 void refuseToOverwriteInputs(const std::filesystem::path& output,
                              const std::vector<std::filesystem::path>& inputs);
 
+// The file name's extension with its dot, ASCII letters lower-cased: "Teapot.OBJ" -> ".obj", "a" -> "".
+std::string lowerCaseExtension(const std::filesystem::path& path);
+
 }  // namespace strata

@@ -1,12 +1,12 @@
 // What a relief render does, independent of OpenGL: technique, search steps, depth scale, tiling, shadows,
 // depth correction, AO, lighting and the picture. One parameter struct shared by the CLI, the scene JSON,
-// the viewer and the GL renderer (STYLE.md: a parameter is defined in one place). docs/render.md documents
+// the viewer and the GL renderer (STYLE.md: a parameter is defined in one place). docs/scenes.md documents
 // every field with its scene-file key and flag.
 //
 // Techniques (Policarpo, Oliveira, Comba 2005, "Real-Time Relief Mapping on Arbitrary Polygonal Surfaces"):
 //   texture   colour only, lit with the mesh's own normal;
 //   normal    normal mapping: colour and normal at the fragment's own uv;
-//   parallax  parallax mapping with the Kaneko offset uv += (d_top - d) ... (docs/render.md gives the form);
+//   parallax  parallax mapping with the Kaneko offset uv += (d_top - d) ... (form: docs/renderer.md);
 //   relief    the paper's linear + binary search along the tangent-space view ray (its Sec. 3 and the
 //             appendix's ray_intersect_rm), with self-shadowing by the same search along the light ray;
 //   maxmip    exact: maximum-mipmap traversal (Tevs, Ihrke, Seidel 2008) down to the cell, where the ray

@@ -19,7 +19,7 @@
 // block are skipped whole, and so are single cells, so empty space costs one test per block.
 //
 // Thread safety: the tracer is immutable after construction; every method is const and may be called
-// from any number of threads at once (callers parallelise with tbb::parallel_for).
+// from any number of threads at once (callers parallelise with strata::parallelFor).
 #pragma once
 
 #include "strata/image/image.h"
