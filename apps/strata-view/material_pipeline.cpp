@@ -3,6 +3,7 @@
 #include "material_document.h"
 
 #include "strata/core/error.h"
+#include "strata/gl/scene_material.h"
 #include "strata/occlusion/ambient_occlusion.h"
 #include "strata/occlusion/meta_relief_ao.h"
 
@@ -65,6 +66,10 @@ const gl::GpuMaterial* MaterialPipeline::update(const BakeRequest& request) {
             start(std::move(key), "composing", [this, request] {
                 Work work;
                 work.bake = mBaker.bake(request);
+                work.material.kind = MaterialKind::Baked;
+                work.material.depthScale = request.renderDepthScale;
+                work.material.texture = std::move(work.bake.texture);
+                work.material.aoDepthScale = work.bake.aoDepthScale;
                 return work;
             });
         }
@@ -87,22 +92,21 @@ const gl::GpuMaterial* MaterialPipeline::updateLive(const BakeRequest& request) 
             const char* activity = needUpload ? "loading layers" : "baking the composed AO";
             start(std::move(key), activity, [this, request, structure, needUpload, needAo, aoKey] {
                 Work work;
-                work.live = true;
-                work.liveKey = structure;
                 work.upload = needUpload;
-                work.material = request.material;
+                work.liveKey = structure;
+                SceneMaterial& material = work.material;
+                material.kind = MaterialKind::Live;
+                material.depthScale = request.renderDepthScale;
+                material.compose = request.material.compose;
+                material.liveAo = request.material.ao;
+                material.aoParams = request.material.aoParams;
                 if (needUpload) {
-                    work.layers = mBaker.layers(request, work.bake);
+                    material.layers = mBaker.layers(request, work.bake);
                     // The layers' AO maps here on the worker, so that the GL thread only uploads.
-                    if (layerAoAtUpload(request.material)) {
-                        const auto start = std::chrono::steady_clock::now();
-                        const std::vector<std::optional<AoParams>> params = metaReliefLayerAoParams(
-                            work.layers, request.material.compose, request.material.aoParams);
-                        for (std::size_t i = 0; i < work.layers.size(); ++i)
-                            work.layerAo.push_back(
-                                params[i] ? bakeAo(work.layers[i].texture.depth, *params[i]) : Image());
-                        work.bake.aoSeconds += secondsSince(start);
-                    }
+                    const auto start = std::chrono::steady_clock::now();
+                    material.layerAo =
+                        liveLayerAo(material.layers, material.compose, material.liveAo, material.aoParams);
+                    work.bake.aoSeconds += secondsSince(start);
                 }
                 if (needAo) {
                     // The composition and its exact AO (at the render's S with AoRescale::Exact), as the
@@ -112,7 +116,8 @@ const gl::GpuMaterial* MaterialPipeline::updateLive(const BakeRequest& request) 
                     bake.loadSeconds += work.bake.loadSeconds;
                     bake.notes.insert(bake.notes.begin(), work.bake.notes.begin(), work.bake.notes.end());
                     work.bake = std::move(bake);
-                    work.composedAo = true;
+                    material.composedAo = std::move(work.bake.texture.ao);
+                    material.composedAoDepthScale = work.bake.aoDepthScale;
                     work.composedAoKey = aoKey;
                 }
                 return work;
@@ -180,38 +185,26 @@ void MaterialPipeline::collect() {
     mActivity.clear();
     try {
         Work work = mJob.get();
-        if (!work.live) {
-            // The texture goes to the GPU as it is; the CPU copy is not kept (the baker caches what it
-            // needs).
-            auto gpu = std::make_unique<gl::GpuMaterial>(
-                gl::uploadMaterial(work.bake.texture, work.bake.aoDepthScale));
-            mGpu = std::move(gpu);
-            mLiveKey.clear();
+        const bool live = work.material.kind == MaterialKind::Live;
+        const bool composedAo = !work.composedAoKey.empty();
+        bool aoApplied = false;
+        if (work.upload) {
+            // GL, so here on the context's thread; everything on the CPU was made on the worker. The CPU copy
+            // is not kept (the baker caches what it needs).
+            const auto start = std::chrono::steady_clock::now();
+            mGpu = std::make_unique<gl::GpuMaterial>(gl::uploadSceneMaterial(work.material));
+            mLiveKey = live ? work.liveKey : std::string();
             mComposedAoKey.clear();
+            aoApplied = composedAo;
+            if (live) mLastUploadSeconds = secondsSince(start);
             ++mUploads;
-        } else {
-            bool aoApplied = false;
-            if (work.upload) {
-                // GL, so here on the context's thread; the per-layer AO maps were baked on the worker.
-                const auto start = std::chrono::steady_clock::now();
-                const std::optional<MetaAoMode> ao = work.material.ao;
-                auto gpu = std::make_unique<gl::GpuMaterial>(gl::uploadLiveMaterial(
-                    work.layers, work.material.compose, ao, work.material.aoParams, work.layerAo));
-                if (work.composedAo) gpu->setComposedAo(work.bake.texture.ao, work.bake.aoDepthScale);
-                aoApplied = work.composedAo;
-                mGpu = std::move(gpu);
-                mComposedAoKey.clear();
-                mLiveKey = work.liveKey;
-                mLastUploadSeconds = secondsSince(start);
-                ++mUploads;
-            } else if (work.composedAo && mGpu && mGpu->isLive() && mLiveKey == work.liveKey) {
-                mGpu->setComposedAo(work.bake.texture.ao, work.bake.aoDepthScale);
-                aoApplied = true;
-            }
-            if (aoApplied) {
-                mComposedAoKey = work.composedAoKey;
-                ++mComposedAoUpdates;
-            }
+        } else if (composedAo && mGpu && mGpu->isLive() && mLiveKey == work.liveKey) {
+            mGpu->setComposedAo(work.material.composedAo, work.material.composedAoDepthScale);
+            aoApplied = true;
+        }
+        if (aoApplied) {
+            mComposedAoKey = work.composedAoKey;
+            ++mComposedAoUpdates;
         }
         work.bake.texture = {};
         mLastBake = std::move(work.bake);

@@ -14,14 +14,15 @@
 //
 // The CPU work (loading layers, composing, baking AO) runs on a worker thread, so the window keeps drawing
 // (with the previous material) while it works; edits made meanwhile are coalesced into one job for the
-// latest state. GL calls stay on the caller's thread. One exception: uploadLiveMaterial with material AO
-// "multiply" or "min" bakes each layer's AO inside the upload, so that bake runs on the caller's thread (a
-// hitch on a structural edit only; the library has no entry point that takes pre-baked layer AO maps).
+// latest state. GL calls stay on the caller's thread. A job hands back a strata::SceneMaterial (the per-layer
+// AO maps of material AO "multiply" or "min" baked on the worker by liveLayerAo), and the caller's thread
+// uploads it with gl::uploadSceneMaterial, as `strata render` does.
 #pragma once
 
 #include "material_bake.h"
 
 #include "strata/gl/relief_renderer.h"
+#include "strata/scene/scene_material.h"
 
 #include <chrono>
 #include <exception>
@@ -77,15 +78,11 @@ public:
 private:
     // What a worker job hands back.
     struct Work {
-        bool live = false;
-        std::string liveKey;                   // live: the structure the job is for
-        bool upload = false;                   // live: upload `layers` (else only the composed AO)
-        std::vector<CompositionLayer> layers;  // live: loaded, to upload
-        std::vector<Image> layerAo;  // live, AO multiply / min: each layer's AO, baked on the worker
-        Material material;           // live: compose and AO settings of the upload
-        bool composedAo = false;     // live: bake.texture.ao is the composed AO map
-        std::string composedAoKey;
-        BakeResult bake;  // baked: the texture; live: the report and the composed AO
+        bool upload = true;         // upload `material` (live: false when only its composed AO changed)
+        SceneMaterial material;     // what to upload: baked (the texture) or live (the layers, their AO)
+        std::string liveKey;        // live: the structure the job is for
+        std::string composedAoKey;  // live: what material.composedAo was baked for, "" if the job made none
+        BakeResult bake;            // the report (its texture moved into `material`)
     };
 
     const gl::GpuMaterial* updateLive(const BakeRequest& request);

@@ -2,14 +2,11 @@
 
 #include "cli_common.h"
 
-#include "strata/compose/material.h"
 #include "strata/core/error.h"
 #include "strata/gl/context.h"
 #include "strata/gl/relief_renderer.h"
+#include "strata/gl/scene_material.h"
 #include "strata/mesh/mesh.h"
-#include "strata/occlusion/ambient_occlusion.h"
-#include "strata/relief/dual_depth.h"
-#include "strata/relief/texture_set.h"
 
 #include <chrono>
 #include <cmath>
@@ -173,42 +170,11 @@ std::vector<RenderedScene> renderScene(const Scene& scene, const std::vector<Tec
     std::vector<std::string> notes;
     gl::ReliefRenderer renderer;
     const gl::GpuMesh gpuMesh = gl::uploadMesh(mesh);
-    gl::GpuMaterial gpuMaterial;
-    double depthScale = 0.0;
-    if (scene.meta == MetaPath::Live) {
-        // The layers go to the GPU as they are; only the exact AO needs the composed depth.
-        const Material material = loadSceneLayeredMaterial(scene);
-        progress("layers of " + material.source.string());
-        const std::vector<CompositionLayer> layers = loadLayers(material, &notes);
-        for (const auto& text : notes) note(text);
-        depthScale = scene.relief.depthScale.value_or(material.compose.depthScale);
-        const std::optional<MetaAoMode> ao = scene.relief.ao ? material.ao : std::nullopt;
-        gpuMaterial = gl::uploadLiveMaterial(layers, material.compose, ao, material.aoParams);
-        if (ao == MetaAoMode::Exact) {
-            AoParams params = material.aoParams;
-            params.depthScale =
-                scene.relief.aoRescale == AoRescale::Exact ? depthScale : material.compose.depthScale;
-            progress("ambient occlusion of the composed depth at S = " + formatNumber(params.depthScale));
-            const Composition composition = compose(layers, material.compose);
-            gpuMaterial.setComposedAo(bakeAo(composition.texture.depth, params), params.depthScale);
-        }
-    } else if (scene.relief.technique == Technique::DualDepth && scene.depthMap.empty() &&
-               isDualDepth(scene.material)) {
-        const DualDepthTexture dual = readDualDepth(scene.material);
-        depthScale = scene.relief.depthScale.value_or(dual.depthScale);
-        gpuMaterial = gl::uploadDualDepth(dual);
-    } else {
-        ReliefTexture texture = loadSceneMaterial(scene, &notes, [](const std::string& m) { progress(m); });
-        for (const auto& text : notes) note(text);
-        depthScale = renderDepthScale(scene, texture);
-        double aoDepthScale = texture.depthScale;
-        if (scene.relief.ao && !texture.ao.empty()) {
-            if (scene.relief.aoRescale == AoRescale::Exact && depthScale != texture.depthScale)
-                progress("ambient occlusion at S = " + formatNumber(depthScale) + " (exact rescale)");
-            texture.ao = aoForRender(texture, depthScale, scene.relief.aoRescale, &aoDepthScale);
-        }
-        gpuMaterial = gl::uploadMaterial(texture, aoDepthScale);
-    }
+    const SceneMaterial material =
+        prepareSceneMaterial(scene, &notes, [](const std::string& m) { progress(m); });
+    for (const auto& text : notes) note(text);
+    const double depthScale = material.depthScale;
+    const gl::GpuMaterial gpuMaterial = gl::uploadSceneMaterial(material);
 
     gl::RenderRequest request;
     request.objects.push_back({&gpuMesh, glm::dmat4(1.0), &gpuMaterial, glm::dvec3(0.8)});
@@ -232,23 +198,7 @@ std::vector<RenderedScene> renderScene(const Scene& scene, const std::vector<Tec
         results.push_back(std::move(result));
     }
 
-    std::vector<fs::path> inputs;
-    if (fs::exists(scene.mesh)) inputs.push_back(scene.mesh);
-    if (!scene.depthMap.empty()) inputs.push_back(scene.depthMap);
-    if (fs::exists(scene.material) && scene.depthMap.empty()) {
-        // The material and every file it reads: a texture set's maps, a material JSON's layer files.
-        const fs::path material(scene.material);
-        const fs::path setDir = fs::is_directory(material)            ? material
-                                : material.filename() == kSidecarName ? material.parent_path()
-                                                                      : fs::path();
-        inputs.push_back(material);
-        if (!setDir.empty()) {
-            for (const auto& entry : fs::directory_iterator(setDir)) inputs.push_back(entry.path());
-        } else {
-            for (const auto& file : materialInputs(readMaterial(material))) inputs.push_back(file);
-        }
-    }
-    if (!scene.source.empty()) inputs.push_back(scene.source);
+    const std::vector<fs::path> inputs = sceneInputs(scene);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     for (RenderedScene& result : results) {
         result.inputs = inputs;
