@@ -18,8 +18,8 @@
 //          every concave arc's peak: the bilinear surface's horizon up to float rounding). The reference.
 //   Paper  the paper as written: the area of the projected polygon of the horizon points,
 //          1/2 sin(2 pi / M) sum_i cos h_i cos h_(i+1), over pi (AoNormalize::Paper) or over the open
-//          M-gon's area (AoNormalize::Open); on Brute's horizons, then the paper's filter. Never brighter
-//          than Brute: the polygon's chords lose (1/(2M)) sum_i (cos h_i - cos h_(i+1))^2.
+//          M-gon's area (AoNormalize::Open); on Brute's horizons, then the paper's filter. Open and
+//          unfiltered, it is Brute minus (1/(2M)) sum_i (cos h_i - cos h_(i+1))^2: never brighter.
 //
 // Filter (AoFilter; Section IV-A): a (2k + 1)^2 normalised Gaussian, wrap-around, whose result replaces
 // the AO only at texels with some horizon above the plane (tan h > 0); open texels keep their value.
