@@ -1,5 +1,5 @@
 // AO of a meta-relief: the composed depth's own AO, or the paper's combination of per-layer AO maps
-// (Section IV-A). The derivation of the per-layer depth scale and radius is in the header.
+// (Section IV-A). docs/occlusion.md ("Combining layers") derives the per-layer depth scale and radius.
 #include "strata/occlusion/meta_relief_ao.h"
 
 #include "strata/core/error.h"

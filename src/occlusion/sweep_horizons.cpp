@@ -59,7 +59,7 @@ namespace {
 
 // Columns walked exactly on each texel's own line before the far field takes over. 4 keeps the far
 // field's lateral error below 0.003 AO RMSE against the exact walk on every built-in pattern
-// (docs/occlusion.md); 2 doubles it, 8 costs twice the time for a further halving.
+// (docs/occlusion.md); 2 doubles it, 8 doubles the near field's work for a further halving.
 constexpr int kNear = 4;
 constexpr int kPad = kNear + 2;
 // The widest line group (AVX-512): the relief is padded for its last lane.
@@ -67,8 +67,8 @@ constexpr int kMaxLanes = 16;
 // A lane that reads its window itself skips runs of this many samples at a time.
 constexpr int kRun = 16;
 // A direction whose windows all have at most this many samples reads them sample by sample instead of
-// through hulls: 16 lanes x 192 samples take about as long as a hull's pushes and tangent per step
-// (512^2, R = 0.3 tile: 94 against 97 ms), and shorter windows less (R = 0.02: 34 against 91 ms).
+// through hulls: up to this length, 16 lanes reading their windows cost no more than a hull's pushes and
+// tangent per step, and shorter windows less (docs/dev/occlusion-notes.md has the measurements).
 constexpr int kShortWindow = 192;
 
 // GCC vector extensions, each lane width in a namespace of its own below. Every function that takes or
@@ -383,7 +383,7 @@ struct Points {
 // Stacks hold (t, z) pairs, so that reading a lane's point is one 8-byte load: entry e of lane l at
 // 2 (e kLanes + l). Lanes 0, 1, 4, 5 are read into one register and 2, 3, 6, 7 into another, so that
 // one shuffle within 128-bit halves (SHUFPS) splits them into t and z in lane order. (Hardware gathers
-// are no faster on the CPUs measured.)
+// were no faster: docs/dev/occlusion-notes.md.)
 using Pairs = double __attribute__((vector_size(kLanes * sizeof(float))));
 constexpr int kPairLane[2][kLanes / 2] = {{0, 1, 4, 5}, {2, 3, 6, 7}};
 constexpr Ints kFirstOfPair = {0, 2, 8, 10, 4, 6, 12, 14};
@@ -548,7 +548,7 @@ void sweep(const Image& depth, const AoParams& params, const SweepOptions& optio
         plan.readWindows = !options.hullsOnly && plan.longestWindow <= kShortWindow;
         return plan;
     };
-    // Each direction's plan is made while the one before runs (a serial 2 % of the bake otherwise).
+    // Each direction's plan is made while the one before runs, so that planning is not a serial step.
     std::optional<DirectionPlan> next(planOf(0));
     for (int i = 0; i < sweeps; ++i) {
         const DirectionPlan plan = std::move(*next);

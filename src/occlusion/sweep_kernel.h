@@ -120,9 +120,8 @@ template <int kSide>
 // Each lane's upper hull on a stack, slot d at d kLanes + lane, with its top kHeld slots also in
 // registers. A pop reads the slot under them, kHeld - 2 pops ahead of the test that would need it, so
 // the read is not on the path that decides whether to pop again; and most tangents are found among
-// them (tangent()). With 32 vector registers (AVX-512) 7 slots take 14 of them and beat 4 by 2-6 % on 2
-// threads and 4-10 % on one (512^2, R = 1 tile; 5 and 6 lie in between, 8 is no faster). With 16
-// (SSE2, AVX2) 7 slots spill: 8 % slower with SSE2, no faster with AVX2.
+// them (tangent()). With 32 vector registers (AVX-512) 7 slots take 14 of them and beat 4; with 16
+// (SSE2, AVX2) 7 slots spill, so those kernels hold 4 (docs/dev/occlusion-notes.md has the measurements).
 static_assert(kHeld == 4 || kHeld == 7);
 struct HullStack {
     float* points;
@@ -140,7 +139,8 @@ struct HullStack {
 // all lie on one side of q in t, its top nearest). The elevation seen from q rises along the hull from
 // its top to that vertex and falls beyond, so the search walks down from the top: through the held
 // slots first, then reading two slots a step, both before either comparison. The steps are written out:
-// the same step as an always-inlined function or lambda made GCC 12's code 6-9 % slower overall.
+// the same step as an always-inlined function or lambda made GCC 12's code slower overall
+// (docs/dev/occlusion-notes.md).
 template <bool kNative, int kSide>
 [[gnu::always_inline]] inline Points tangent(const HullStack& h, const Points& q) {
     Ints down = (h.size >= 2) & seesHigher<kSide>(q, h.top, h.second);

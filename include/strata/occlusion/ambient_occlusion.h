@@ -1,72 +1,35 @@
 // Texture-space ambient occlusion of a relief (depth) map: Limberger, Schetinger, Oliveira 2015,
-// "Meta-Relief Texture Mapping with Dynamic Texture-Space Ambient Occlusion", Section IV.
+// "Meta-Relief Texture Mapping with Dynamic Texture-Space Ambient Occlusion", Section IV-A.
+// docs/occlusion.md derives every formula below and measures each method's accuracy and speed.
 //
-// Geometry (CONVENTIONS §1, §2, §4). The relief is the bilinear, wrap-around surface through the texel
-// centres, at height z = -S d(u, v) in tile units. For texel (u0, v0) with depth d0 (z0 = -S d0) and
-// direction phi_i = 2 pi i / M, measured in the (u, v) plane from +u towards +v (v is up, so +v moves to
-// smaller row indices), a sample at distance t (tile widths) has elevation atan((z - z0) / t). The
-// horizon h_i is the largest elevation over t in (0, R], clamped at 0 (the reference plane; the
-// hemisphere is the one around +z). The search wraps toroidally: t may run over several tiles.
-//
-// Horizon searches. The exact one (AoParams::marchStep = 0, the default for Brute and Paper) walks each
-// texel's own line cell by cell: the relief along a straight line is linear on every grid line it
-// crosses and a quadratic arc inside each cell, so it takes every crossing, the arc's interior maximum
-// where the arc is concave, the limit t -> 0+ (the slope of the cell the direction enters) and the
-// point at R. That is the horizon of the bilinear relief exactly, up to float rounding. It stops early
-// once nothing can rise higher (S (d0 - min d) / t <= the current tan h), which changes nothing.
-// marchStep > 0 samples instead at t_k = k R / N, N = ceil(R / step) (step in texels of the larger side)
-// with Image::sampleTexel, plus the t -> 0+ slope: it misses peaks between samples, by O(step).
-//
-// The sweep (AoMethod::Sweep) finds the same horizons for all texels at once: per direction, parallel
-// lines one texel apart cross the map against the direction, and each keeps the upper convex hull of
-// its profile on a stack (Timonen & Westerholm 2010; Stewart 1998), so a texel's far horizon is one
-// tangent query from its own point and the cost is linear in texels x directions. Each texel reads
-// the hull of the line nearest to it (at most half a texel beside its own line) for distances beyond
-// 4 texel steps, and walks its own line exactly up to there. The lateral half texel is its one
-// approximation; it matters only beyond those 4 steps, and docs/occlusion.md measures it against the
-// exact walk: RMSE <= 0.0023 AO on every built-in pattern at 256^2. The window is exact: a texel sees
-// the line's samples between R and 4 steps away and the point at exactly R, nothing farther (one hull
-// per side holds the line from R before its start; where the texel's tangent to it lies beyond R and
-// would raise its horizon, the texel reads its window itself; short windows are always read). 4, 8 or
-// 16 lines run in lockstep in SIMD lanes (SSE2 or NEON, AVX2, AVX-512: the same numbers bit for bit).
+// Conventions (CONVENTIONS §1, §2, §4). The relief is the bilinear, wrap-around surface through the
+// texel centres at z = -S d(u, v), in tile units. AO is in [0, 1], 1 = fully open. Direction i is
+// phi_i = 2 pi i / M in the (u, v) plane, from +u towards +v (v is up: +v moves to smaller row indices).
+// The horizon h_i of a texel is the largest elevation atan((z - z0) / t) of the relief over horizontal
+// distances t in (0, R] tile widths, clamped at 0; the search wraps toroidally (t may span tiles).
 //
 // Methods (AoMethod):
-//   Brute  the convention's AO (CONVENTIONS §4): the cosine-weighted fraction of the hemisphere that is
-//          not blocked, = projected solid angle / pi. Per direction the visible projected solid angle of
-//          a wedge of width 2 pi / M above elevation h is (2 pi / M) cos^2(h) / 2, so
-//              AO = (1/M) sum_i cos^2(h_i) = (1/M) sum_i 1 / (1 + tan^2 h_i).
-//          Errors: the M-direction discretisation of the azimuth integral only (exact search).
-//   Sweep  the same quantity from the sweep's horizons (the default: ~180x faster than Brute at 256^2).
-//   Paper  Section IV-A as written: the generalised cone's edges meet the unit hemisphere at
-//          p_i = cos(h_i) (cos phi_i, sin phi_i) (orthographic projection onto the plane); the AO is the
-//          area of that polygon, 1/2 sin(2 pi / M) sum_i cos h_i cos h_(i+1), divided by pi (paper) or by
-//          the open polygon's area (M/2) sin(2 pi / M) (open). This is NOT the discrete
-//          cosine-weighted sum above. Both discretise the same integral (the projected solid angle is
-//          the area of the visible region's orthographic projection, 1/2 integral cos^2 h(phi) dphi),
-//          but the polygon joins neighbouring directions by chords: with open normalisation it is
-//          (1/M) sum_i cos h_i cos h_(i+1) = brute - (1/(2M)) sum_i (cos h_i - cos h_(i+1))^2 <= brute,
-//          darker wherever the horizon changes fast with direction. docs/occlusion.md measures it.
+//   Sweep  (default) the cosine-weighted AO (1/M) sum_i cos^2 h_i, from a convex-hull line sweep
+//          (Timonen & Westerholm 2010): exact up to 4 texel steps, then from the nearest line's hull, at
+//          most half a texel beside the texel's own line. RMSE <= 0.003 against Brute on every built-in
+//          pattern (tested). SSE2/NEON, AVX2 or AVX-512 kernels, chosen at run time, give the same
+//          numbers bit for bit.
+//   Brute  the same quantity from each texel's exact walk along its own line (every grid crossing and
+//          every concave arc's peak: the bilinear surface's horizon up to float rounding). The reference.
+//   Paper  the paper as written: the area of the projected polygon of the horizon points,
+//          1/2 sin(2 pi / M) sum_i cos h_i cos h_(i+1), over pi (AoNormalize::Paper) or over the open
+//          M-gon's area (AoNormalize::Open); on Brute's horizons, then the paper's filter. Open and
+//          unfiltered, it is Brute minus (1/(2M)) sum_i (cos h_i - cos h_(i+1))^2: never brighter.
 //
-// Normalisation (AoNormalize): the paper divides by pi, so a fully open texel gets the regular M-gon's
-// area / pi = (M/2) sin(2 pi / M) / pi = 0.99737 at M = 50, never 1. `Open` divides by the open M-gon's
-// area instead, so open is exactly 1 (CONVENTIONS §4: 1 = fully open) and flat relief is not darkened
-// by 0.3 %; it is the default. `Paper` is offered for reproducing the paper.
+// Filter (AoFilter; Section IV-A): a (2k + 1)^2 normalised Gaussian, wrap-around, whose result replaces
+// the AO only at texels with some horizon above the plane (tan h > 0); open texels keep their value.
 //
-// Filter (AoFilter; Section IV-A: "applied only at texels with some degree of occlusion"): a normalised
-// (2 k + 1)^2 Gaussian, weights exp(-(dx^2 + dy^2) / (2 sigma^2)) for |dx|, |dy| <= k (k =
-// filterRadius, sigma = filterSigma, in texels), wrap-around, applied to the unfiltered AO map; its
-// result replaces the AO only at texels where some direction has a horizon above the plane (tan h > 0).
-// Open texels keep their exact open value, so the filter never darkens open ground.
-// `Auto` (the default) means `Paper` for AoMethod::Paper and `None` for the exact method(s).
+// Depth rescale (Section IV-A, Eq. 4-6): rescaleAoPaper, the paper's disc model (an approximation,
+// shared with GLSL in shaders/shared/ao_rescale.h); rescaleAoExact / HorizonMap::aoAt, exact for any
+// factor s because tan h is linear in the depth scale.
 //
-// Dynamic depth rescale (Section IV-A, Eq. 4-6): rescaleAoPaper(), the shared GLSL/C++ function in
-// shaders/shared/ao_rescale.h. It is an approximation (a disc model of the visible region). The exact
-// rescale needs the per-direction horizons: tan h scales linearly with depth, so
-//     AO(s) = (1/M) sum_i 1 / (1 + s^2 tan^2 h_i)
-// is exact for any factor s (HorizonMap::aoAt, rescaleAoExact).
-//
-// Combination of layers (Section IV-A): the product of the layers' AO (the paper's choice) or their
-// minimum, each layer sampled at tiling * uv like compose() (bilinear, wrap-around).
+// Combination of layers (Section IV-A, last paragraph but one): combineAo, the product (the paper's
+// choice) or the minimum of the layers' AO maps.
 #pragma once
 
 #include "strata/image/image.h"
@@ -81,14 +44,14 @@
 namespace strata {
 
 enum class AoMethod {
-    Sweep,  // cosine-weighted AO from the sweep's horizons (the default; see the top of this file)
-    Brute,  // cosine-weighted AO from each texel's exact walk (CONVENTIONS §4); slow and obviously right
+    Sweep,  // cosine-weighted AO from the sweep's horizons (the default)
+    Brute,  // cosine-weighted AO from each texel's exact walk (CONVENTIONS §4): the reference
     Paper,  // the paper's projected polygon area (Section IV-A), same horizon search
 };
 
 enum class AoFilter {
     Auto,   // Paper for AoMethod::Paper, None otherwise
-    Paper,  // Gaussian low-pass, applied only at texels with some occlusion (see the top of this file)
+    Paper,  // Gaussian low-pass, applied only at texels with some occlusion (Section IV-A)
     None,
 };
 
@@ -146,7 +109,8 @@ struct HorizonMap {
     Image ao(double s = 1.0) const;
 };
 
-// The horizon search of params.method described at the top of this file, for every texel.
+// The horizons of every texel by params.method's search: the sweep for Sweep, the exact walk (or the
+// march, marchStep > 0) for Brute and Paper.
 // Multithreaded (oneTBB).
 // Throws Error(InvalidInput) naming the parameter and the value for: an empty depth map or one with
 // more than one channel, and any AoParams field outside its documented range (method, filter and
@@ -163,8 +127,9 @@ Image polygonAo(const HorizonMap& horizons, AoNormalize normalize, double s = 1.
 // The open texel's value of polygonAo: 1 for Open, (M/2) sin(2 pi / M) / pi for Paper.
 double polygonOpenValue(int directions, AoNormalize normalize);
 
-// The low-pass filter of Section IV-A (see the top of this file) applied to `ao`, at the texels whose
-// horizons show some occlusion. ao and horizons must have the same size (checked).
+// The low-pass filter of Section IV-A applied to `ao`, at the texels whose horizons show some
+// occlusion; radius and sigma in texels as AoParams::filterRadius / filterSigma. ao and horizons must
+// have the same size (checked).
 Image filterOccluded(const Image& ao, const HorizonMap& horizons, int radius, double sigma);
 
 // The AO map of a depth map: computeHorizons, then the method's AO, then the filter. 1 channel.
@@ -178,8 +143,7 @@ Image rescaleAoPaper(const Image& ao, double s);
 Image rescaleAoExact(const HorizonMap& horizons, double s);
 
 // 8-bit horizons: the angle h in [0, pi/2] stored as round(h / (pi/2) * 255). The AO error this causes
-// at s = 1 is at most (pi/2) / 255 / 2 = pi/1020 = 0.0031 per direction (|d cos^2 h / dh| <= 1), hence
-// per texel; docs/occlusion.md measures it.
+// at s = 1 is at most pi/1020 = 0.0031 per texel (half a step of angle; docs/occlusion.md).
 std::uint8_t encodeHorizon8(float tanHorizon);
 float decodeHorizon8(std::uint8_t code);
 // A copy whose tangents are those an 8-bit store gives back (encode, then decode).
@@ -202,8 +166,8 @@ const char* toString(AoMethod method);
 const char* toString(AoFilter filter);
 const char* toString(AoNormalize normalize);
 const char* toString(AoCombine mode);
-// "brute" | "paper"; "auto" | "paper" | "none"; "open" | "paper"; "multiply" | "min". Anything else
-// throws Error(InvalidInput) listing the accepted names.
+// "sweep" | "brute" | "paper"; "auto" | "paper" | "none"; "open" | "paper"; "multiply" | "min". Anything
+// else throws Error(InvalidInput) listing the accepted names.
 AoMethod parseAoMethod(const std::string& text);
 AoFilter parseAoFilter(const std::string& text);
 AoNormalize parseAoNormalize(const std::string& text);

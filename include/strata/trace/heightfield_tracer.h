@@ -9,14 +9,10 @@
 // units (S = depth scale, in tile widths). Above it (z > -S d) is empty space, below it is solid; all of
 // it lies in the slab z in [-S max d, -S min d] (within [-S, 0]).
 //
-// Method (docs/trace.md). A ray p(t) = origin + t direction is clipped to that slab and its (x, y)
-// projection is walked through the bilinear cells it crosses, cell (i, j) = [i, i+1] x [j, j+1], by an
-// exact 2-D DDA (boundary crossings computed directly, never accumulated). In a cell, d along the ray is
-// a + b t + c t^2 (bilinear along a line), so f(t) = z(t) + S d(x(t), y(t)) is a quadratic whose first
-// sign change from > 0 to <= 0 is solved in closed form (numerically stable roots; the linear case c = 0
-// and vertical rays, which stay in one cell, included). Everything is double precision. Blocks of
-// kBlockSize x kBlockSize cells whose highest point (min depth) lies below the ray's lowest z over the
-// block are skipped whole, and so are single cells, so empty space costs one test per block.
+// Method: an exact 2-D DDA over the bilinear cells the ray's (x, y) projection crosses, with the ray's
+// height above the surface solved in closed form per cell (a quadratic), in double precision; blocks of
+// kBlockSize x kBlockSize cells whose relief lies wholly below the ray are skipped. docs/trace.md derives
+// it and gives its measured accuracy.
 //
 // Thread safety: the tracer is immutable after construction; every method is const and may be called
 // from any number of threads at once (callers parallelise with strata::parallelFor).
