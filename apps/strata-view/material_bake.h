@@ -19,9 +19,8 @@
 
 namespace strata::view {
 
-// The viewer composes at this size while editing (`--resolution` changes it): 512^2 composes and bakes its
-// AO in about a third of a second on 2 cores, so an edit shows almost at once. Saved materials keep their
-// own "resolution".
+// The viewer composes at this size while editing (`--resolution` changes it), small enough that an edit
+// shows almost at once (docs/viewer.md measures it). Saved materials keep their own "resolution".
 inline constexpr int kDefaultEditResolution = 512;
 
 struct BakeRequest {

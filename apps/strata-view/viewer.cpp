@@ -234,8 +234,8 @@ void Viewer::drawScene(int width, int height) {
     request.lighting = mScene.lighting;
     request.picture = mScene.picture;
     // The scene's time is measured to glFinish: a GL timer query would be the better measure on a GPU, but
-    // llvmpipe rasterises when the commands are flushed, after such a query has ended (it read 4 ms for a
-    // 250 ms frame). The wait costs a GPU some CPU/GPU overlap, which an interactive viewer can spare.
+    // llvmpipe rasterises when the commands are flushed, after such a query has ended, so the query reads a
+    // fraction of the frame. The wait costs a GPU some CPU/GPU overlap, which an interactive viewer can spare.
     const auto start = std::chrono::steady_clock::now();
     try {
         mRenderer->draw(request, width, height);
