@@ -235,7 +235,8 @@ void Viewer::drawScene(int width, int height) {
     request.picture = mScene.picture;
     // The scene's time is measured to glFinish: a GL timer query would be the better measure on a GPU, but
     // llvmpipe rasterises when the commands are flushed, after such a query has ended, so the query reads a
-    // fraction of the frame. The wait costs a GPU some CPU/GPU overlap, which an interactive viewer can spare.
+    // fraction of the frame. The wait costs a GPU some CPU/GPU overlap, which an interactive viewer can
+    // spare.
     const auto start = std::chrono::steady_clock::now();
     try {
         mRenderer->draw(request, width, height);
