@@ -1,5 +1,5 @@
 // The relief search's linear step count, written once in the common subset of GLSL 4.50 and C++
-// (STYLE.md, "GLSL beside C++"). C++ includes it as "shared/relief_search.h" and gets
+// (shared/prelude.h). C++ includes it as "shared/relief_search.h" and gets
 // strata::shared::reliefLinearSteps(); shaders/relief/relief_search.glsl includes it.
 //
 // Policarpo et al. 2005, Sec. 3: "delta varies from fragment to fragment as function of the angle between
@@ -12,22 +12,13 @@
 // (tests/gl/test_program.cpp checks them on a sweep of angles).
 #ifdef __cplusplus
 #pragma once
-#include <glm/glm.hpp>
-namespace strata::shared {
-using glm::abs;
-using glm::clamp;
-using glm::floor;
-#define STRATA_SHARED_INLINE inline
-#else
-#define STRATA_SHARED_INLINE
 #endif
+#include "prelude.h"
+STRATA_SHARED_BEGIN
 
-STRATA_SHARED_INLINE int reliefLinearSteps(int linearSteps, float cosTheta) {
+STRATA_SHARED_FUNCTION int reliefLinearSteps(int linearSteps, float cosTheta) {
     float c = clamp(abs(cosTheta), 0.25f, 1.0f);
     return int(floor(float(linearSteps) / c + 0.5f));
 }
 
-#ifdef __cplusplus
-}  // namespace strata::shared
-#endif
-#undef STRATA_SHARED_INLINE
+STRATA_SHARED_END
