@@ -109,8 +109,8 @@ bool reliefBelow(vec2 uv, float depth, bool strict) {
 }
 
 // reliefIntersect (the appendix's ray_intersect_rm) and the light-ray search of reliefLit (RM_SHADOWS) are
-// shaders/shared/relief_search.h, shared with the C++ that counts their fetches (strata/trace/shader_loops.h);
-// they read the height field through reliefBelow above.
+// shaders/shared/relief_search.h, shared with the C++ that counts their fetches
+// (strata/trace/shader_loops.h); they read the height field through reliefBelow above.
 //
 // Shadow bias. The hit of reliefIntersect is the deepest point known to be inside: the surface crossing lies
 // within `bracket` (its final search window, 1 / (n 2^(b-1))) above it, so a light ray through it starts

@@ -10,14 +10,14 @@
 //     STRATA_SHARED_END
 //
 // C++ gets the functions in namespace strata::shared, inline, with the GLSL names they use (vec2, floor,
-// mix, ...) taken from glm there; GLSL gets them as written. Literals carry the f suffix, so that C++ computes
-// in float as the shader does.
+// mix, ...) taken from glm there; GLSL gets them as written. Literals carry the f suffix, so that C++
+// computes in float as the shader does.
 //
 // A loop whose texture reads the includer supplies (shared/relief_search.h, maxmip.h, cone.h) is written
 // between STRATA_SHARED_CLASS_BEGIN(Name) and STRATA_SHARED_CLASS_END, its fetches declared with
 // STRATA_SHARED_FETCH(signature):
-//   - GLSL: the class markers vanish and each fetch is a prototype; the shader defines the function (before or
-//     after the include), reading its textures and uniforms;
+//   - GLSL: the class markers vanish and each fetch is a prototype; the shader defines the function
+//     (before or after the include), reading its textures and uniforms;
 //   - C++: Name is a class whose fetches are pure virtual member functions and whose loops are member
 //     functions; a derived class supplies the fetches (e.g. strata/trace/shader_loops.h reads Images and
 //     counts the fetches).

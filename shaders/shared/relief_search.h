@@ -1,8 +1,9 @@
 // The relief search (Policarpo, Oliveira, Comba 2005, Sec. 3, 3.1 and the appendix's ray_intersect_rm and
 // RM_SHADOWS) and its linear step count, written once in the common subset of GLSL 4.50 and C++
-// (shared/prelude.h). C++ includes it as "shared/relief_search.h" and gets strata::shared::reliefLinearSteps()
-// and the class strata::shared::ReliefSearch; shaders/relief/relief_search.glsl includes it and supplies the
-// fetch, reliefBelow (the packed texture's depth, or a live meta-relief's layers).
+// (shared/prelude.h). C++ includes it as "shared/relief_search.h" and gets
+// strata::shared::reliefLinearSteps() and the class strata::shared::ReliefSearch;
+// shaders/relief/relief_search.glsl includes it and supplies the fetch, reliefBelow (the packed texture's
+// depth, or a live meta-relief's layers).
 //
 // Conventions (CONVENTIONS §1, §2, §5): tile coordinates (u, v) repeat; d in [0, 1], 0 = the polygon (top),
 // 1 = the deepest point. A ray is given by its entry point dp at depth 0 and ds, its (u, v) travel from
