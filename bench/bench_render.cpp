@@ -9,8 +9,6 @@
 // One frame = render(): draw and the read-back of the picture into a strata::Image (the
 // read-back is a few percent of a frame at these sizes). Reported as time per frame.
 // Run: build/release/bench/bench_render
-#include "shader_loops.h"
-
 #include "strata/compose/compose.h"
 #include "strata/gl/context.h"
 #include "strata/gl/relief_renderer.h"
@@ -20,6 +18,7 @@
 #include "strata/scene/render_settings.h"
 #include "strata/scene/scene.h"
 #include "strata/trace/heightfield_tracer.h"
+#include "strata/trace/shader_loops.h"
 
 #include <benchmark/benchmark.h>
 
@@ -189,8 +188,9 @@ void BM_LiveMetaRelief(benchmark::State& state) {
 BENCHMARK(BM_LiveMetaRelief)->ArgsProduct({{2, 3, 5}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Texture fetches per pixel on the verification scene (CONVENTIONS §7), counted on the CPU by running the
-// shaders' search loops (shaders/relief/relief_search.glsl, relief.frag.glsl) on the same rays with the same
-// step rule (strata::adaptiveLinearSteps) and early exits, against the base-level bilinear height field:
+// shaders' own search loops (shaders/shared/relief_search.h: reliefIntersect and reliefLit, in float, through
+// strata/trace/shader_loops.h) on the same rays with relief.frag.glsl's step rule (reliefLinearSteps),
+// against the base-level bilinear height field:
 // unit quad, `stone-bricks` 256^2, S = 0.1, 256^2 pixels, camera 45 degrees from the normal at distance 1.6,
 // light at (1.5, 0, 1.5), shaded output with self-shadowing. Counted: every fetch of the packed relief
 // texture and of the colour texture. Args: Technique, linear steps, binary steps. Reported as counters
@@ -209,6 +209,11 @@ void BM_FetchesPerPixel(benchmark::State& state) {
     camera.fovYDegrees = 40.0;
     const glm::dvec3 light(1.5, 0.0, 1.5);
     std::vector<int> counts;
+    CpuReliefSearch search(tracer);
+    // relief.frag.glsl's step count: reliefLinearSteps of the angle, clamped to [1, 4 N].
+    const auto steps = [&](double cosTheta) {
+        return std::clamp(shared::reliefLinearSteps(linear, static_cast<float>(cosTheta)), 1, 4 * linear);
+    };
     for (auto _ : state) {
         counts.clear();
         for (int py = 0; py < 256; ++py) {
@@ -219,41 +224,34 @@ void BM_FetchesPerPixel(benchmark::State& state) {
                 const glm::dvec2 entry(camera.eye.x + t * dir.x, camera.eye.y + t * dir.y);
                 if (entry.x < 0.0 || entry.x > 1.0 || entry.y < 0.0 || entry.y > 1.0) continue;
                 int fetches = technique == Technique::Texture ? 1 : 2;  // colour (+ the packed texel)
-                glm::dvec2 hitUv = entry;  // the shaded point's uv and depth (relief.frag.glsl)
-                double hitDepth = 0.0;
-                double bracket = 0.0;
-                const glm::dvec2 ds = glm::dvec2(dir.x, dir.y) * S / -dir.z;
+                shared::vec2 hitUv(entry);  // the shaded point's uv and depth (relief.frag.glsl)
+                float hitDepth = 0.0f;
+                float bracket = 0.0f;
+                const shared::vec2 ds(glm::dvec2(dir.x, dir.y) * S / -dir.z);
+                search.resetFetches();
                 if (technique == Technique::Parallax) {
                     ++fetches;  // d at the fragment's uv
-                    hitUv = entry + ds * tracer.depthAt(entry.x, entry.y);
+                    hitUv += ds * static_cast<float>(tracer.depthAt(entry.x, entry.y));
                 }
                 if (technique == Technique::Relief) {
-                    const bench::ReliefSearch search =
-                        bench::reliefIntersect(tracer, entry, ds, -dir.z, linear, binary);
-                    fetches += search.fetches;
-                    hitUv = entry + ds * search.depth;
-                    hitDepth = search.depth;
-                    bracket = search.bracket;
+                    const int n = steps(dir.z);
+                    hitDepth = search.reliefIntersect(hitUv, ds, n, binary);
+                    bracket = 1.0f / (static_cast<float>(n) *
+                                      std::exp2(static_cast<float>(std::max(binary - 1, 0))));
+                    hitUv += ds * hitDepth;
                 } else {
                     // The other techniques test the relief point under the uv they shade.
                     ++fetches;
-                    hitDepth = tracer.depthAt(hitUv.x, hitUv.y);
+                    hitDepth = static_cast<float>(
+                        tracer.depthAt(static_cast<double>(hitUv.x), static_cast<double>(hitUv.y)));
                 }
-                // reliefLit, with the shaded output's bias.
-                const glm::dvec3 toLight = light - glm::dvec3(hitUv, -S * hitDepth);
-                const double end = hitDepth - bracket - 0.02;
-                if (toLight.z > 0.0 && end > 0.0) {
-                    const int m = adaptiveLinearSteps(linear, toLight.z / glm::length(toLight));
-                    const glm::dvec2 up = glm::dvec2(toLight.x, toLight.y) * S / toLight.z;
-                    const glm::dvec2 lightEntry = hitUv + up * hitDepth;
-                    for (int i = 1; i <= m; ++i) {
-                        const double d = end / m * i;
-                        ++fetches;
-                        const glm::dvec2 uv = lightEntry - up * d;
-                        if (d > tracer.depthAt(uv.x, uv.y)) break;
-                    }
-                }
-                counts.push_back(fetches);
+                // reliefLit, with the shaded output's bias (relief_search.glsl's kShadowBias).
+                const glm::dvec3 hitPoint(static_cast<double>(hitUv.x), static_cast<double>(hitUv.y),
+                                          -S * static_cast<double>(hitDepth));
+                const glm::dvec3 toLight = light - hitPoint;
+                search.reliefLit(hitUv, hitDepth, bracket, shared::vec3(toLight), static_cast<float>(S),
+                                 steps(toLight.z / glm::length(toLight)), 0.02f);
+                counts.push_back(fetches + search.fetches());
             }
         }
     }

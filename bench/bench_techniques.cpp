@@ -7,9 +7,10 @@
 // 64 + 8 (the paper's search, adaptive step count), parallax (one fetch), maxmip (exact traversal), cone
 // (exact cone stepping).
 // Fetches: of the view ray's intersection only (no shadow ray, no shading fetch), counted on the CPU by
-// running each shader's loop on the same rays: relief_search.glsl's reliefIntersect, maxmip.glsl's
-// maxMipIntersect (one fetch per node read, one textureGather per cell solved), cone.glsl's coneIntersect
-// (one fetch per cell visited, one textureGather per cell solved). Errors: the GL renderer's
+// running each shader's own loop (shaders/shared/*.h, in float, through strata/trace/shader_loops.h) on the
+// same rays: reliefIntersect (one fetch per step), maxMipIntersect (one fetch per node read, one
+// textureGather per cell solved), coneIntersect (one fetch per cell visited, one textureGather per cell
+// solved), each against the base level's height field. Errors: the GL renderer's
 // uv and depth outputs against renderQuadReference: hit/miss disagreement, and uv error in texels over the
 // pixels where both hit, split by the sign of (d - d_exact) along the ray: overshoot (the technique stopped
 // beyond the exact hit: it skipped a feature) and undershoot (it stopped short).
@@ -17,8 +18,6 @@
 // off by more than 0.05 texel each way), overP99 / underP99 (99th percentile uv error in texels among those
 // pixels, 0 if none). The benchmark time is that of the whole measurement, not of a frame.
 // Run: build/release/bench/bench_techniques
-#include "shader_loops.h"
-
 #include "strata/gl/context.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
@@ -30,6 +29,7 @@
 #include "strata/scene/render_settings.h"
 #include "strata/trace/heightfield_tracer.h"
 #include "strata/trace/quad_reference.h"
+#include "strata/trace/shader_loops.h"
 
 #include <benchmark/benchmark.h>
 
@@ -102,124 +102,6 @@ Camera camera(double angleDegrees) {
     return c;
 }
 
-// The maximum mipmap (strata/relief/max_mip.h) and the depth map, read in its frame (v up, wrapping).
-struct MaxMip {
-    std::vector<Image> levels;
-    const Image* depth = nullptr;
-
-    explicit MaxMip(const Image& d) : levels(maxMipPyramid(d)), depth(&d) {}
-    static int wrap(double x, int n) { return static_cast<int>(x - std::floor(x / n) * n); }
-    double node(int k, double x, double y) const {
-        const Image& level = levels[static_cast<std::size_t>(k)];
-        return level.at(wrap(x, level.width()), wrap(y, level.height()));
-    }
-    double texel(double x, double y) const {
-        const int h = depth->height();
-        return depth->at(wrap(x, depth->width()), h - 1 - wrap(y, h));
-    }
-};
-
-// bilinear_cell.glsl's cellAt and cellExit: the node of `width` cells that c0 + cd d is in (a point on a face
-// belongs to the node ahead of it) and the depth where the ray leaves it (at most 1).
-struct NodeStep {
-    glm::dvec2 node;
-    double exit = 1.0;
-};
-NodeStep nodeAt(glm::dvec2 c0, glm::dvec2 cd, double d, double width) {
-    const glm::dvec2 c = c0 + cd * d;
-    NodeStep step;
-    for (int a = 0; a < 2; ++a) {
-        const double direction = cd[a] > 0 ? 1.0 : cd[a] < 0 ? -1.0 : 0.0;
-        step.node[a] = std::floor((c[a] + direction * std::max(1e-4, std::abs(c[a]) * 5e-7)) / width);
-        if (std::abs(cd[a]) > 1e-20)
-            step.exit = std::min(step.exit, ((step.node[a] + (cd[a] >= 0 ? 1 : 0)) * width - c0[a]) / cd[a]);
-    }
-    return step;
-}
-
-// The patch of cell `node` crosses the ray in [d, dExit] (sampled finely enough to decide whether it does;
-// the fetch count does not depend on where).
-bool cellHit(const MaxMip& mip, glm::dvec2 node, glm::dvec2 c0, glm::dvec2 cd, double d, double dExit) {
-    const double a = mip.texel(node.x, node.y), b = mip.texel(node.x + 1, node.y);
-    const double e = mip.texel(node.x, node.y + 1), f = mip.texel(node.x + 1, node.y + 1);
-    for (int i = 0; i <= 64; ++i) {
-        const double t = d + (dExit - d) * i / 64.0;
-        const glm::dvec2 p = c0 + cd * t - node;
-        const double depth =
-            a * (1 - p.x) * (1 - p.y) + b * p.x * (1 - p.y) + e * (1 - p.x) * p.y + f * p.x * p.y;
-        if (depth <= t) return true;
-    }
-    return false;
-}
-
-// maxMipIntersect's loop (maxmip.glsl) in double, in its cell coordinates; returns the fetches it makes.
-int maxMipFetches(const MaxMip& mip, glm::dvec2 c0, glm::dvec2 cd) {
-    const int top = static_cast<int>(mip.levels.size()) - 1;
-    int level = std::min(
-            top, static_cast<int>(std::ceil(std::log2(std::max({std::abs(cd.x), std::abs(cd.y), 1.0}))))),
-        fetches = 0;
-    double d = 0.0;
-    for (int iteration = 0; iteration < 1024; ++iteration) {
-        const auto [node, dExit] = nodeAt(c0, cd, d, std::exp2(level));
-        ++fetches;
-        if (level == 0) {
-            if (cellHit(mip, node, c0, cd, d, dExit) || dExit >= 1.0) return fetches;
-            d = dExit;
-            level = std::min(level + 1, top);
-            continue;
-        }
-        const double highest = mip.node(level, node.x, node.y);
-        if (highest > dExit) {
-            if (dExit >= 1.0) return fetches;
-            d = dExit;
-            level = std::min(level + 1, top);
-        } else {
-            d = std::max(d, highest);
-            --level;
-        }
-    }
-    return fetches;
-}
-
-// The cone map as cone.glsl reads it: per cell, the ratio after 16-bit quantisation (rounded down).
-struct ConeCells {
-    Image ratio;
-    explicit ConeCells(const Image& depth) : ratio(coneMap(depth)) {
-        const float cap = coneMapMaxRatio(depth, {});
-        for (float& r : ratio.pixels()) r = decodeConeRatio(encodeConeRatio(r, cap), cap);
-    }
-};
-
-// coneIntersect's loop (cone.glsl) in double, in its cell coordinates; returns the fetches it makes (one
-// texelFetch of the cone map per cell visited, one textureGather per cell solved).
-int coneFetches(const MaxMip& mip, const ConeCells& cone, glm::dvec2 c0, glm::dvec2 cd) {
-    const double travel = glm::length(cd);
-    int fetches = 0;
-    double d = 0.0;
-    for (int iteration = 0; iteration < 2048; ++iteration) {
-        const auto [cell, dExit] = nodeAt(c0, cd, d, 1.0);
-        ++fetches;
-        const double highest = std::min({mip.texel(cell.x, cell.y), mip.texel(cell.x + 1, cell.y),
-                                         mip.texel(cell.x, cell.y + 1), mip.texel(cell.x + 1, cell.y + 1)});
-        const double ratio = cone.ratio.at(MaxMip::wrap(cell.x, cone.ratio.width()),
-                                           MaxMip::wrap(cell.y, cone.ratio.height()));
-        if (d < highest) {
-            d += ratio * (highest - d) / (ratio + travel);
-            if (d >= 1.0) return fetches;
-            if (d >= dExit) continue;
-        }
-        ++fetches;
-        if (cellHit(mip, cell, c0, cd, d, dExit) || dExit >= 1.0) return fetches;
-        const glm::dvec2 p = glm::clamp(c0 + cd * dExit - cell, 0.0, 1.0);
-        const double apex = mip.texel(cell.x, cell.y) * (1 - p.x) * (1 - p.y) +
-                            mip.texel(cell.x + 1, cell.y) * p.x * (1 - p.y) +
-                            mip.texel(cell.x, cell.y + 1) * (1 - p.x) * p.y +
-                            mip.texel(cell.x + 1, cell.y + 1) * p.x * p.y;
-        d = std::max(dExit, dExit + ratio * (apex - dExit) / (ratio + travel));
-    }
-    return fetches;
-}
-
 const std::vector<std::string>& maps() {
     static const std::vector<std::string> names = [] {
         std::vector<std::string> list;
@@ -250,9 +132,18 @@ void BM_Technique(benchmark::State& state) {
             if ((name == "walls") != walls) continue;
             const ReliefTexture texture = makeMap(name);
             const HeightFieldTracer tracer(texture.depth, kDepthScale);
-            const MaxMip mip(texture.depth);
-            const std::optional<ConeCells> cone =
-                which == 4 ? std::optional<ConeCells>(std::in_place, texture.depth) : std::nullopt;
+            CpuReliefSearch relief(tracer);
+            const std::vector<Image> levels =
+                which == 3 ? maxMipPyramid(texture.depth) : std::vector<Image>();
+            std::optional<CpuMaxMipTraversal> maxMip =
+                which == 3 ? std::optional<CpuMaxMipTraversal>(std::in_place, levels, texture.depth)
+                           : std::nullopt;
+            // The renderer's cone map (uploadMaterial): of the depth map's 16-bit values, which these are.
+            const PackedConeMap packed = which == 4 ? packConeMap(texture.depth) : PackedConeMap();
+            std::optional<CpuConeStepping> cone =
+                which == 4 ? std::optional<CpuConeStepping>(std::in_place, packed.texels, packed.maxRatio,
+                                                            texture.depth)
+                           : std::nullopt;
             const gl::GpuMaterial material = gl::uploadMaterial(texture, kDepthScale);
             gl::RenderRequest request;
             request.objects.push_back({&c.quad, glm::dmat4(1.0), &material, glm::dvec3(0.8)});
@@ -289,24 +180,29 @@ void BM_Technique(benchmark::State& state) {
                     if (error > 0.05) {
                         (depth.at(x, y) > reference.depth.at(x, y) ? over : under).push_back(error);
                     }
-                    // Fetches of this pixel's ray.
+                    // Fetches of this pixel's ray, as relief.frag.glsl sets it up (in float): entry tile
+                    // coordinates and ds = s.xy S / s.z.
                     const glm::dvec3 dir = pixelRayDirection(cam, kPicture, kPicture, x + 0.5, y + 0.5);
                     const double t = -cam.eye.z / dir.z;
-                    const glm::dvec2 entry(cam.eye.x + t * dir.x, cam.eye.y + t * dir.y);
-                    const glm::dvec2 ds = glm::dvec2(dir.x, dir.y) * kDepthScale / -dir.z;
-                    // Cell coordinates, as the shaders: c = uv * size - 0.5.
-                    const glm::dvec2 c0 = entry * double(kMapSize) - 0.5;
-                    const glm::dvec2 cd = ds * double(kMapSize);
+                    const shared::vec2 entry(glm::dvec2(cam.eye.x + t * dir.x, cam.eye.y + t * dir.y));
+                    const shared::vec2 ds(glm::dvec2(dir.x, dir.y) * kDepthScale / -dir.z);
                     if (which == 3) {
-                        fetches.push_back(maxMipFetches(mip, c0, cd));
+                        maxMip->resetFetches();
+                        maxMip->maxMipIntersect(entry, ds);
+                        fetches.push_back(maxMip->fetches());
                     } else if (which == 4) {
-                        fetches.push_back(coneFetches(mip, *cone, c0, cd));
+                        cone->resetFetches();
+                        cone->coneIntersect(entry, ds);
+                        fetches.push_back(cone->fetches());
                     } else if (which == 2) {
                         fetches.push_back(1);
                     } else {
-                        fetches.push_back(
-                            bench::reliefIntersect(tracer, entry, ds, -dir.z, which == 0 ? 32 : 64, 8)
-                                .fetches);
+                        const int n = which == 0 ? 32 : 64;
+                        const int steps =
+                            std::clamp(shared::reliefLinearSteps(n, static_cast<float>(dir.z)), 1, 4 * n);
+                        relief.resetFetches();
+                        relief.reliefIntersect(entry, ds, steps, 8);
+                        fetches.push_back(relief.fetches());
                     }
                 }
             }

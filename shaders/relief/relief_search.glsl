@@ -1,12 +1,13 @@
-// Ray / height-field intersection in texture space, written once and included by every program that
-// needs it (Policarpo, Oliveira, Comba 2005, Sec. 3 and the appendix's ray_intersect_rm).
+// Ray / height-field intersection in texture space, included by every program that needs it (Policarpo,
+// Oliveira, Comba 2005, Sec. 3 and the appendix's ray_intersect_rm): the height field's fetch, reliefBelow,
+// for the search loops of shaders/shared/relief_search.h (reliefIntersect, reliefLit), and the shadow bias.
 //
 // Conventions (CONVENTIONS §1, §2, §5): tile coordinates (u, v) repeat (GL_REPEAT); the packed texture's
 // alpha is the depth d in [0, 1], 0 = the polygon (top), 1 = the deepest point; the relief point of (u, v)
 // is (u, v, -S d) in tile units. A ray is given by its entry point dp at depth 0 and ds, its (u, v) travel
 // from depth 0 to depth 1: the ray's point at depth t is (dp + ds t, -S t).
 //
-// Sampling. Implicit derivatives are undefined in non-uniform control flow (the loops below), so the
+// Sampling. Implicit derivatives are undefined in non-uniform control flow (the search loops), so the
 // height field is read with explicit ones:
 //   - shaded output: textureGrad with the derivatives of the fragment's own tile coordinates (set once in
 //     main(), in uniform control flow), so the search sees the mip-mapped, anisotropically filtered height
@@ -107,62 +108,16 @@ bool reliefBelow(vec2 uv, float depth, bool strict) {
 #endif
 }
 
-// Appendix, ray_intersect_rm: the depth t in [0, 1] of the first intersection of the ray (dp, ds) with
-// the height field. `linearSteps` (>= 1) is the loop bound of the linear search (the appendix's constant
-// linear_search_steps, here reliefLinearSteps(N, cos theta) per fragment), `binarySteps` that of the
-// binary search.
+// reliefIntersect (the appendix's ray_intersect_rm) and the light-ray search of reliefLit (RM_SHADOWS) are
+// shaders/shared/relief_search.h, shared with the C++ that counts their fetches
+// (strata/trace/shader_loops.h); they read the height field through reliefBelow above.
 //
-// Linear search (Sec. 3, Fig. 9): step from depth 0 towards 1 in increments of 1 / linearSteps until the
-// first point inside the relief (t >= d). The appendix starts with best_depth = 1 ("last position 1.0")
-// and tests best_depth > 0.996 for "not found yet"; a flag does the same without limiting the step count
-// to 250. It also keeps fetching after the hit so that the fetches can run in parallel; here the loop
-// exits instead (cheaper on current GPUs and on llvmpipe, same result).
-//
-// No hit in the linear search: best depth stays 1, the last position, which is never above the relief
-// (d <= 1 everywhere), so the bracket [1 - 1/n, 1] always holds a crossing and the binary search refines it.
-// A ray that enters the top face therefore always hits (the exact tracer agrees: between depth 0, never
-// inside, and depth 1, never outside, the bilinear surface is crossed); a "miss" is only a fragment whose
-// ray does not go into the surface at all (s.z <= 0, see relief.frag.glsl).
-//
-// Binary search (Sec. 3, Fig. 7): halve the window around the first inside point, keeping the deepest
-// point known to be inside. The first iteration re-tests that point, exactly as in the appendix, so
-// binarySteps = b refines the bracket to 1 / (linearSteps 2^(b-1)).
-float reliefIntersect(vec2 dp, vec2 ds, int linearSteps, int binarySteps) {
-    float size = 1.0 / float(linearSteps);  // current size of the search window
-    float depth = 0.0;                      // current depth position
-    float bestDepth = 1.0;                  // best match found (starts with the last position, 1.0)
-    for (int i = 0; i < linearSteps - 1; ++i) {
-        depth += size;
-        if (reliefBelow(dp + ds * depth, depth, false)) {
-            bestDepth = depth;
-            break;
-        }
-    }
-    depth = bestDepth;
-    for (int i = 0; i < binarySteps; ++i) {
-        size *= 0.5;
-        if (reliefBelow(dp + ds * depth, depth, false)) {
-            bestDepth = depth;
-            depth -= 2.0 * size;
-        }
-        depth += size;
-    }
-    return bestDepth;
-}
-
-// Self-shadowing (Sec. 3.1, Fig. 10; appendix, RM_SHADOWS): is the relief point at (hitUv, hitDepth) lit by
-// a light in direction `toLight` (tangent space, tile units, z out of the surface; need not be unit) at
-// depth scale `depthScale` (S, tile widths)? The light ray through the hit enters the top face at depth 0;
-// it is searched linearly from there down to the hit ("there is no need to find the actual intersection
-// point, but simply decide whether such an intersection exists"), with `linearSteps` steps.
-//
-// Bias. The hit of reliefIntersect is the deepest point known to be inside: the surface crossing lies
+// Shadow bias. The hit of reliefIntersect is the deepest point known to be inside: the surface crossing lies
 // within `bracket` (its final search window, 1 / (n 2^(b-1))) above it, so a light ray through it starts
 // inside the solid. The appendix searches the whole depth range and calls the point lit when the light
 // ray's first hit is deeper than d - 0.05; here the light-ray search stops at hitDepth - bracket -
 // kShadowBias instead: 0.002 of the depth range (2e-4 tile widths at S = 0.1) absorbs the bilinear
 // filter's sub-texel rounding on slopes facing the light without lighting visibly occluded points.
-// A light at or below the tangent plane (toLight.z <= 0) shadows.
 // The shaded output searches the mip-mapped height field (Sec. 5), whose filtered levels move the surface by
 // more than the base level's rounding: there the bias is 0.02 of the depth range (the appendix uses 0.05),
 // which removes the isolated dark texels ("shadow acne") that 0.002 left on the teapot.
@@ -172,18 +127,7 @@ const float kShadowBias = 0.02;
 const float kShadowBias = 0.002;
 #endif
 
+// Self-shadowing with this output's bias (shared/relief_search.h).
 bool reliefLit(vec2 hitUv, float hitDepth, float bracket, vec3 toLight, float depthScale, int linearSteps) {
-    if (toLight.z <= 0.0) return false;
-    float end = hitDepth - bracket - kShadowBias;
-    if (end <= 0.0) return true;  // the hit is at the top: nothing above it
-    // (u, v) travel of the light ray per unit of depth, towards the light (upwards).
-    vec2 up = toLight.xy * depthScale / toLight.z;
-    vec2 entry = hitUv + up * hitDepth;  // where the light ray crosses depth 0
-    float size = end / float(linearSteps);
-    for (int i = 1; i <= linearSteps; ++i) {
-        float depth = size * float(i);
-        // Strictly inside: a light ray that only touches the surface (e.g. along a flat top) is not blocked.
-        if (reliefBelow(entry - up * depth, depth, true)) return false;
-    }
-    return true;
+    return reliefLit(hitUv, hitDepth, bracket, toLight, depthScale, linearSteps, kShadowBias);
 }

@@ -1,5 +1,5 @@
 // Dynamic depth rescaling of texture-space ambient occlusion, written once in the common subset of
-// GLSL 4.50 and C++ (STYLE.md, "GLSL beside C++"). C++ includes it as "shared/ao_rescale.h" and gets
+// GLSL 4.50 and C++ (shared/prelude.h). C++ includes it as "shared/ao_rescale.h" and gets
 // strata::shared::aoRescalePaper(); a shader pastes it after its `#version 450` line.
 //
 // AO follows CONVENTIONS §4: in [0, 1], 1 = fully open. s is the depth scale factor applied at render
@@ -19,16 +19,11 @@
 // AO at any s is the mean of this over the directions (strata::HorizonMap::aoAt).
 #ifdef __cplusplus
 #pragma once
-#include <glm/glm.hpp>
-namespace strata::shared {
-using glm::clamp;
-using glm::max;
-#define STRATA_SHARED_INLINE inline
-#else
-#define STRATA_SHARED_INLINE
 #endif
+#include "prelude.h"
+STRATA_SHARED_BEGIN
 
-STRATA_SHARED_INLINE float aoRescalePaper(float ao, float s) {
+STRATA_SHARED_FUNCTION float aoRescalePaper(float ao, float s) {
     float r2 = clamp(ao, 0.0f, 1.0f);  // Eq. 4: r^2 = AO
     float h2 = 1.0f - r2;              // H^2 = 1 - r^2
     // Eq. 5, (s H)^2 + r^2, written as 1 + (s^2 - 1) H^2 (equal, as H^2 + r^2 = 1) so that s = 1
@@ -37,12 +32,9 @@ STRATA_SHARED_INLINE float aoRescalePaper(float ao, float s) {
     return r2 / max(rPrime2, 1.0e-30f);  // Eq. 6 (the guard matters only for AO = s = 0)
 }
 
-STRATA_SHARED_INLINE float aoDirectionExact(float tanHorizon, float s) {
+STRATA_SHARED_FUNCTION float aoDirectionExact(float tanHorizon, float s) {
     float t = s * tanHorizon;
     return 1.0f / (1.0f + t * t);
 }
 
-#ifdef __cplusplus
-}  // namespace strata::shared
-#endif
-#undef STRATA_SHARED_INLINE
+STRATA_SHARED_END

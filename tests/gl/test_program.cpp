@@ -70,6 +70,28 @@ TEST(ShaderLibrary, EmbedsTheShaderTree) {
     EXPECT_TRUE(library.contains("relief/relief_search.glsl"));
     EXPECT_TRUE(library.contains("shared/ao_rescale.h"));
     EXPECT_TRUE(library.contains("shared/relief_search.h"));
+    EXPECT_TRUE(library.contains("shared/prelude.h"));
+    EXPECT_TRUE(library.contains("shared/bilinear_cell.h"));
+    EXPECT_TRUE(library.contains("shared/maxmip.h"));
+    EXPECT_TRUE(library.contains("shared/cone.h"));
+}
+
+// Every shared GLSL/C++ header (shaders/shared/*.h) is pasted into some variant, so that PassGlslangValidator
+// and EveryVariantCompilesAndLinks compile it as GLSL; C++ compiles it in the libraries and tests.
+TEST(ProgramVariants, IncludeEverySharedHeader) {
+    std::set<std::string> included;
+    for (const ProgramVariant& variant : allVariants()) {
+        for (const ShaderStage stage : {ShaderStage::Vertex, ShaderStage::Fragment}) {
+            for (const std::string& file : variantSource(variant, stage).files) included.insert(file);
+        }
+    }
+    int shared = 0;
+    for (const auto& [path, text] : ShaderLibrary::embedded().files()) {
+        if (path.rfind("shared/", 0) != 0) continue;
+        ++shared;
+        EXPECT_EQ(included.count(path), 1u) << path << " is in no variant";
+    }
+    EXPECT_GE(shared, 6);  // prelude, ao_rescale, relief_search, bilinear_cell, maxmip, cone
 }
 
 TEST(ProgramVariants, AreDistinctAndCanonical) {

@@ -418,10 +418,16 @@ TEST(AmbientOcclusion, SharedRescaleHeaderCompilesAsGlsl) {
     if (validator.empty() || validator.find("NOTFOUND") != std::string::npos)
         FAIL() << "glslangValidator not found: install glslang-tools: scripts/install-deps.sh";
     const test::ScratchDir dir("strata_ao_glsl");
-    std::ifstream header(std::string(STRATA_SOURCE_DIR) + "/shaders/shared/ao_rescale.h");
-    ASSERT_TRUE(header.good());
+    // The header after the prelude it includes, pasted as the shader library does (strata::gl resolves
+    // `#include "prelude.h"`; glslangValidator alone does not).
     std::ostringstream text;
-    text << header.rdbuf();
+    for (const char* name : {"prelude.h", "ao_rescale.h"}) {
+        std::ifstream file(std::string(STRATA_SOURCE_DIR) + "/shaders/shared/" + name);
+        ASSERT_TRUE(file.good()) << name;
+        for (std::string line; std::getline(file, line);) {
+            if (line != "#include \"prelude.h\"") text << line << "\n";
+        }
+    }
     const auto shader = dir / "ao_rescale_test.comp";
     {
         std::ofstream out(shader);

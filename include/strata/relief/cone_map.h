@@ -1,6 +1,6 @@
 // Conservative cone maps for cone step mapping (Dummer 2006; Policarpo & Oliveira, GPU Gems 3 ch. 18), with
 // cones valid for whole bilinear cells and quantised downwards, as Bán et al. 2024 ("Robust Cone Step
-// Mapping") ask. The `cone` technique traces with them (shaders/relief/cone.glsl).
+// Mapping") ask. The `cone` technique traces with them (shaders/shared/cone.h, shaders/relief/cone.glsl).
 //
 // Frame and units: exactly those of max_mip.h's level 0. Cell coordinates c = (u W - 0.5, v H - 0.5), texel
 // centres at integers; frame row y is image row H - 1 - y (row 0 at v = 0, as GL stores the flipped

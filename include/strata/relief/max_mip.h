@@ -1,6 +1,6 @@
 // The maximum mipmap of a depth map (Tevs, Ihrke, Seidel 2008), as the `maxmip` technique traverses it
-// (shaders/relief/maxmip.glsl; docs/renderer.md): the GL renderer uploads it, the fetch-count benchmark
-// walks it on the CPU.
+// (shaders/shared/maxmip.h; docs/renderer.md): the GL renderer uploads it, and strata/trace/shader_loops.h
+// walks it on the CPU with the same loop.
 //
 // Frame: cell coordinates c = (u W - 0.5, v H - 0.5), texel centres at integers, so c.y grows with v (row 0
 // of a level is at v = 0: the image's last row, as GL stores the uploaded, flipped texture). Cell (i, j) is
