@@ -20,6 +20,8 @@
 #include "shader_loops.h"
 
 #include "strata/gl/context.h"
+#include "strata/gl/gpu_material.h"
+#include "strata/gl/gpu_mesh.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
 #include "strata/relief/cone_map.h"

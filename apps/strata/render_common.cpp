@@ -5,6 +5,8 @@
 #include "strata/compose/material.h"
 #include "strata/core/error.h"
 #include "strata/gl/context.h"
+#include "strata/gl/gpu_material.h"
+#include "strata/gl/gpu_mesh.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/mesh.h"
 #include "strata/occlusion/ambient_occlusion.h"

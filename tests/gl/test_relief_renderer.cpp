@@ -2,6 +2,8 @@
 // strata/trace/quad_reference.h), plus determinism, interpenetration and a shaded sanity check.
 #include "gl_test_support.h"
 #include "strata/core/error.h"
+#include "strata/gl/gpu_material.h"
+#include "strata/gl/gpu_mesh.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
 #include "strata/relief/patterns.h"
