@@ -1,5 +1,6 @@
 #include "strata/gl/relief_renderer.h"
 
+#include "relief_program.h"
 #include "render_target.h"
 #include "texture_upload.h"
 
@@ -7,7 +8,6 @@
 #include "strata/gl/gl_error.h"
 #include "strata/gl/gpu_material.h"
 #include "strata/gl/gpu_mesh.h"
-#include "strata/gl/program.h"
 #include "strata/image/srgb.h"
 
 #include <epoxy/gl.h>

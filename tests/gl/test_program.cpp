@@ -1,5 +1,6 @@
 // Programs: include resolution, #line mapping of driver errors, every variant in GL and in glslangValidator,
 // and the shared GLSL/C++ step count.
+#include "gl/relief_program.h"  // internal: the relief renderer's variants
 #include "gl_test_support.h"
 #include "shared/relief_search.h"
 #include "strata/core/error.h"
