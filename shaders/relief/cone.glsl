@@ -20,8 +20,10 @@
 // Both steps only skip relief-free space, so the first cell whose solve finds a root holds the first hit.
 #include "bilinear_cell.glsl"
 
-layout(binding = 13) uniform sampler2D uConeMap;  // RG16, see above
-uniform float uConeMaxRatio;                       // the ratio that sqrt(...) = 1 encodes
+#include "shared/relief_uniforms.h"
+
+layout(binding = kConeMapUnit) uniform sampler2D uConeMap;  // RG16, see above
+// uConeMaxRatio, the ratio that sqrt(...) = 1 encodes: the per-draw block.
 
 // (m_C, c_C) of cell `cell` (unwrapped). The decoded ratio is nudged down so that float rounding of the
 // unorm conversion never widens the cone.

@@ -18,8 +18,10 @@
 // (texelFetch), a cell one textureGather of the four depths.
 #include "bilinear_cell.glsl"
 
-layout(binding = 12) uniform sampler2D uMaxMip;  // R16: the highest point (smallest d) per node
-uniform int uMaxMipLevels;                       // levels of uMaxMip (the top one is 1 x 1)
+#include "shared/relief_uniforms.h"
+
+layout(binding = kMaxMipUnit) uniform sampler2D uMaxMip;  // R16: the highest point (smallest d) per node
+// uMaxMipLevels, the levels of uMaxMip (the top one is 1 x 1): the per-draw block.
 
 // Depth t in [0, 1] of the first intersection of the ray (dp, ds) (relief_search.glsl's form) with the
 // bilinear height field of uRelief's base level.

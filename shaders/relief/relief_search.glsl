@@ -15,8 +15,9 @@
 //   - debug outputs (uv, shadow, depth): textureLod(..., 0), the base level's bilinear height field that
 //     CONVENTIONS §1 defines and the exact CPU tracer intersects.
 #include "shared/relief_search.h"
+#include "shared/relief_uniforms.h"
 
-layout(binding = 0) uniform sampler2D uRelief;  // packed relief texture, CONVENTIONS §5
+layout(binding = kReliefUnit) uniform sampler2D uRelief;  // packed relief texture, CONVENTIONS §5
 
 vec2 gTileDx = vec2(0.0);  // derivatives of the fragment's tile coordinates (shaded output only)
 vec2 gTileDy = vec2(0.0);
@@ -34,16 +35,12 @@ vec4 reliefSample(vec2 uv) {
 // (CONVENTIONS §5 layout) at its own resolution and tiling t_i, combined per fragment. The depth the searches
 // see is paper Eq. 2, D(uv) = sum_i (w_d,i / W) d_i(t_i uv), W = sum_j w_d,j; the weights arrive normalised.
 // Nothing is baked, so fractional tilings have no seam and a weight change needs no re-bake.
-const int kMaxLayers = 8;
-layout(binding = 3) uniform sampler2D uLayers[kMaxLayers];
-uniform int uLayerCount;
-uniform float uLayerTiling[kMaxLayers];
-uniform float uLayerDepthWeight[kMaxLayers];  // w_d,i / W
+const int kMaxLayers = kMaxLiveLayers;  // shared/relief_bindings.h
+layout(binding = kLayerUnit0) uniform sampler2D uLayers[kMaxLayers];
 // The renderer binds the layers in the searches' order (largest weighted depth range first; Eq. 1 and 2
-// do not depend on the order), and gives for each layer i the bounds of what the layers after it can add
-// to Eq. 2: the sums of (w_d,j / W) min d_j and (w_d,j / W) max d_j over j > i (reliefBelow).
-uniform float uLayerRestLow[kMaxLayers];
-uniform float uLayerRestHigh[kMaxLayers];
+// do not depend on the order). uLayerCount, uLayerTiling, uLayerDepthWeight (w_d,i / W) and, for each layer
+// i, the bounds of what the layers after it can add to Eq. 2, uLayerRestLow and uLayerRestHigh (the sums of
+// (w_d,j / W) min d_j and (w_d,j / W) max d_j over j > i, reliefBelow), are in the per-draw block.
 
 // Each layer's mip level for the fragment, set once in uniform control flow (layerLods): the searches read
 // every layer at every step, and an explicit level spares each fetch the derivative-to-level computation.

@@ -28,7 +28,6 @@ struct GpuVertex {
 };
 static_assert(sizeof(GpuVertex) == 14 * sizeof(float), "GpuVertex must be tightly packed");
 
-
 }  // namespace
 
 GpuMesh::~GpuMesh() {

@@ -4,6 +4,8 @@
 #include "render_target.h"
 #include "texture_upload.h"
 
+#include "shared/relief_bindings.h"
+#include "shared/relief_uniforms.h"
 #include "strata/core/error.h"
 #include "strata/gl/gl_error.h"
 #include "strata/gl/gpu_material.h"
@@ -50,6 +52,8 @@ struct ReliefRenderer::Impl {
     // them in software, that made the teapot 10-30x slower (35 s instead of 1 s at 320x180), and on a GPU it
     // only blurs a height field whose crossing the binary search locates anyway.
     GLuint searchSampler = 0;
+    // The per-draw uniform block (shared/relief_uniforms.h), rewritten before every draw.
+    GLuint uniformBuffer = 0;
     RenderTarget target;
 
     Impl() {
@@ -67,6 +71,8 @@ struct ReliefRenderer::Impl {
         glSamplerParameteri(searchSampler, GL_TEXTURE_WRAP_T, GL_REPEAT);
         glSamplerParameteri(searchSampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
         glSamplerParameteri(searchSampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glCreateBuffers(1, &uniformBuffer);
+        glNamedBufferStorage(uniformBuffer, sizeof(shared::ReliefUniforms), nullptr, GL_DYNAMIC_STORAGE_BIT);
         checkGl("ReliefRenderer: creating default textures");
     }
 
@@ -75,6 +81,7 @@ struct ReliefRenderer::Impl {
         glDeleteTextures(1, &white);
         glDeleteSamplers(1, &baseLevelSampler);
         glDeleteSamplers(1, &searchSampler);
+        glDeleteBuffers(1, &uniformBuffer);
     }
 
     const Program& program(const ProgramVariant& variant) {
@@ -86,8 +93,8 @@ struct ReliefRenderer::Impl {
 
     void drawScene(const RenderRequest& request, int width, int height, bool encodeSrgb,
                    const glm::vec4& clearColor);
-    static void setLiveUniforms(const Program& program, const GpuMaterial& material, double depthScale,
-                                const ReliefSettings& relief);
+    static void setLiveUniforms(shared::ReliefUniforms& uniforms, const GpuMaterial& material,
+                                double depthScale, const ReliefSettings& relief);
 };
 
 namespace {
@@ -187,10 +194,8 @@ std::vector<std::size_t> shaderLayerOrder(const std::vector<GpuLayer>& layers) {
 // shaderLayerOrder: weights normalised as Eq. 1 and 2 do, each layer's AO rescale S_i now / S_i baked,
 // S_i = S (w_d,i / W) t_i, and the bounds on what the later layers add to Eq. 2 (with 1e-6 of slack for the
 // float rounding of the shader's sums).
-void ReliefRenderer::Impl::setLiveUniforms(const Program& program, const GpuMaterial& material,
+void ReliefRenderer::Impl::setLiveUniforms(shared::ReliefUniforms& uniforms, const GpuMaterial& material,
                                            double depthScale, const ReliefSettings& relief) {
-    const GLuint id = program.id();
-    const auto location = [&](const char* name) { return program.uniformLocation(name); };
     const std::vector<GpuLayer>& layers = material.layers();
     const std::vector<std::size_t> order = shaderLayerOrder(layers);
     double sumDepth = 0.0, sumNormal = 0.0;
@@ -198,41 +203,33 @@ void ReliefRenderer::Impl::setLiveUniforms(const Program& program, const GpuMate
         sumDepth += layer.weightDepth;
         sumNormal += layer.weightNormal;
     }
-    std::array<float, kMaxLiveLayers> tiling{}, depthWeight{}, normalWeight{}, aoScale{}, normalScale{};
-    std::array<float, kMaxLiveLayers> restLow{}, restHigh{};
     double low = 0.0, high = 0.0;
     for (std::size_t i = layers.size(); i-- > 0;) {
-        restLow[i] = static_cast<float>(low - 1e-6);
-        restHigh[i] = static_cast<float>(high + 1e-6);
+        uniforms.uLayerRestLow[i].x = static_cast<float>(low - 1e-6);
+        uniforms.uLayerRestHigh[i].x = static_cast<float>(high + 1e-6);
         const GpuLayer& layer = layers[order[i]];
         low += layer.weightDepth / sumDepth * layer.depthMin;
         high += layer.weightDepth / sumDepth * layer.depthMax;
     }
-    glProgramUniform1fv(id, location("uLayerRestLow"), kMaxLiveLayers, restLow.data());
-    glProgramUniform1fv(id, location("uLayerRestHigh"), kMaxLiveLayers, restHigh.data());
     for (std::size_t i = 0; i < layers.size(); ++i) {
         const GpuLayer& layer = layers[order[i]];
-        tiling[i] = static_cast<float>(layer.tiling);
-        normalScale[i] = static_cast<float>(layer.normalScale);
-        depthWeight[i] = static_cast<float>(layer.weightDepth / sumDepth);
-        normalWeight[i] = sumNormal > 0.0 ? static_cast<float>(layer.weightNormal / sumNormal) : 0.0f;
+        uniforms.uLayerTiling[i].x = static_cast<float>(layer.tiling);
+        uniforms.uLayerNormalScale[i].x = static_cast<float>(layer.normalScale);
+        uniforms.uLayerDepthWeight[i].x = static_cast<float>(layer.weightDepth / sumDepth);
+        uniforms.uLayerNormalWeight[i].x =
+            sumNormal > 0.0 ? static_cast<float>(layer.weightNormal / sumNormal) : 0.0f;
         const double now = depthScale * (layer.weightDepth / sumDepth) * layer.tiling;
-        aoScale[i] = layer.aoDepthScale > 0.0 && relief.aoRescale != AoRescale::Off
-                         ? static_cast<float>(now / layer.aoDepthScale)
-                         : 1.0f;
+        uniforms.uLayerAoScale[i].x = layer.aoDepthScale > 0.0 && relief.aoRescale != AoRescale::Off
+                                          ? static_cast<float>(now / layer.aoDepthScale)
+                                          : 1.0f;
     }
-    glProgramUniform1i(id, location("uLayerCount"), static_cast<GLint>(layers.size()));
-    glProgramUniform1fv(id, location("uLayerTiling"), kMaxLiveLayers, tiling.data());
-    glProgramUniform1fv(id, location("uLayerDepthWeight"), kMaxLiveLayers, depthWeight.data());
-    glProgramUniform1fv(id, location("uLayerNormalWeight"), kMaxLiveLayers, normalWeight.data());
-    glProgramUniform1fv(id, location("uLayerAoScale"), kMaxLiveLayers, aoScale.data());
-    glProgramUniform1i(id, location("uMetaConsistent"), material.normalMode() == NormalMode::Consistent);
-    glProgramUniform1fv(id, location("uLayerNormalScale"), kMaxLiveLayers, normalScale.data());
+    uniforms.uLayerCount = static_cast<int>(layers.size());
+    uniforms.uMetaConsistent = material.normalMode() == NormalMode::Consistent ? 1 : 0;
     int aoMode = 0;
     if (material.liveAo() == MetaAoMode::Multiply) aoMode = 1;
     if (material.liveAo() == MetaAoMode::Min) aoMode = 2;
     if (material.liveAo() == MetaAoMode::Exact && material.composedAoTexture() != 0) aoMode = 3;
-    glProgramUniform1i(id, location("uMetaAo"), aoMode);
+    uniforms.uMetaAo = aoMode;
 }
 
 void ReliefRenderer::Impl::drawScene(const RenderRequest& request, int width, int height, bool encodeSrgb,
@@ -273,83 +270,88 @@ void ReliefRenderer::Impl::drawScene(const RenderRequest& request, int width, in
             variant.ao = relief.aoRescale == AoRescale::Paper ? AoMode::Paper : AoMode::Baked;
         }
         variant.live = material != nullptr && material->isLive();
-        const Program& prog = program(variant);
-        const GLuint id = prog.id();
-        const auto location = [&](const char* name) { return prog.uniformLocation(name); };
+        const GLuint id = program(variant).id();
 
         const double depthScale =
             material != nullptr ? relief.depthScale.value_or(material->depthScale()) : 0.0;
         const glm::dmat3 linear(object.model);
         const double determinant = glm::determinant(linear);
         const glm::mat3 normalMatrix(glm::transpose(glm::inverse(linear)));
-        glProgramUniformMatrix4fv(id, location("uModel"), 1, GL_FALSE, glm::value_ptr(toFloat(object.model)));
-        glProgramUniformMatrix3fv(id, location("uNormalMatrix"), 1, GL_FALSE, glm::value_ptr(normalMatrix));
-        glProgramUniform1f(id, location("uMirror"), determinant < 0.0 ? -1.0f : 1.0f);
-        glProgramUniformMatrix4fv(id, location("uViewProjection"), 1, GL_FALSE,
-                                  glm::value_ptr(viewProjectionF));
-        glProgramUniform1f(id, location("uTiling"), static_cast<float>(relief.tiling));
-        glProgramUniform3fv(id, location("uEye"), 1, glm::value_ptr(glm::vec3(request.camera.eye)));
-        glProgramUniform1f(id, location("uDepthScale"), static_cast<float>(depthScale));
-        glProgramUniform1f(
-            id, location("uNormalScale"),
-            material != nullptr ? static_cast<float>(depthScale / material->depthScale()) : 1.0f);
-        glProgramUniform1i(id, location("uLinearSteps"), relief.linearSteps);
-        glProgramUniform1i(id, location("uBinarySteps"), relief.binarySteps);
-        glProgramUniform3fv(id, location("uLightPosition"), 1,
-                            glm::value_ptr(glm::vec3(lighting.lightPosition)));
-        glProgramUniform3fv(id, location("uLightColor"), 1, glm::value_ptr(glm::vec3(lighting.lightColor)));
-        glProgramUniform1f(id, location("uAmbient"), static_cast<float>(lighting.ambient));
-        glProgramUniform1f(id, location("uSpecular"), static_cast<float>(lighting.specular));
-        glProgramUniform1f(id, location("uShininess"), static_cast<float>(lighting.shininess));
-        glProgramUniform1f(
-            id, location("uAoScale"),
-            material != nullptr ? static_cast<float>(depthScale / material->aoDepthScale()) : 1.0f);
-        glProgramUniform3f(id, location("uPlainColor"), static_cast<float>(srgbToLinear(object.color.r)),
-                           static_cast<float>(srgbToLinear(object.color.g)),
-                           static_cast<float>(srgbToLinear(object.color.b)));
-        glProgramUniform1i(id, location("uEncodeSrgb"), encodeSrgb ? 1 : 0);
+        // Zero-initialised: the members a variant does not read (the live arrays past the layer count,
+        // the maxmip and cone values of the other techniques) hold 0.
+        shared::ReliefUniforms uniforms{};
+        uniforms.uModel = toFloat(object.model);
+        uniforms.uNormalMatrix =
+            glm::mat3x4(glm::vec4(normalMatrix[0], 0.0f), glm::vec4(normalMatrix[1], 0.0f),
+                        glm::vec4(normalMatrix[2], 0.0f));
+        uniforms.uMirror = determinant < 0.0 ? -1.0f : 1.0f;
+        uniforms.uViewProjection = viewProjectionF;
+        uniforms.uTiling = static_cast<float>(relief.tiling);
+        uniforms.uEye = glm::vec3(request.camera.eye);
+        uniforms.uDepthScale = static_cast<float>(depthScale);
+        uniforms.uNormalScale =
+            material != nullptr ? static_cast<float>(depthScale / material->depthScale()) : 1.0f;
+        uniforms.uLinearSteps = relief.linearSteps;
+        uniforms.uBinarySteps = relief.binarySteps;
+        uniforms.uLightPosition = glm::vec3(lighting.lightPosition);
+        uniforms.uLightColor = glm::vec3(lighting.lightColor);
+        uniforms.uAmbient = static_cast<float>(lighting.ambient);
+        uniforms.uSpecular = static_cast<float>(lighting.specular);
+        uniforms.uShininess = static_cast<float>(lighting.shininess);
+        uniforms.uAoScale =
+            material != nullptr ? static_cast<float>(depthScale / material->aoDepthScale()) : 1.0f;
+        uniforms.uPlainColor = glm::vec3(static_cast<float>(srgbToLinear(object.color.r)),
+                                         static_cast<float>(srgbToLinear(object.color.g)),
+                                         static_cast<float>(srgbToLinear(object.color.b)));
+        uniforms.uEncodeSrgb = encodeSrgb ? 1 : 0;
+        uniforms.uColorTiling = 1.0f;
 
-        glProgramUniform1f(id, location("uColorTiling"), 1.0f);
         const GLuint sampler =
             request.picture.output == RenderOutput::Shaded ? searchSampler : baseLevelSampler;
         glUseProgram(id);
         if (variant.live) {
-            setLiveUniforms(prog, *material, depthScale, relief);
-            glBindTextureUnit(0, flatRelief);
-            glBindTextureUnit(2, flatRelief);
+            setLiveUniforms(uniforms, *material, depthScale, relief);
+            glBindTextureUnit(shared::kReliefUnit, flatRelief);
+            glBindTextureUnit(shared::kReliefShadeUnit, flatRelief);
             const std::vector<GpuLayer>& layers = material->layers();
             const int colorLayer = material->colorLayer();
-            glBindTextureUnit(1,
+            glBindTextureUnit(shared::kColorUnit,
                               colorLayer >= 0 ? layers[static_cast<std::size_t>(colorLayer)].color : white);
-            if (colorLayer >= 0) {
-                glProgramUniform1f(id, location("uColorTiling"),
-                                   static_cast<float>(layers[static_cast<std::size_t>(colorLayer)].tiling));
-            }
+            if (colorLayer >= 0)
+                uniforms.uColorTiling =
+                    static_cast<float>(layers[static_cast<std::size_t>(colorLayer)].tiling);
             // Searches and shading read the layers through one sampler (trilinear, or the base level for the
             // debug outputs): a second set of units with anisotropic filtering would need 16 more.
             const std::vector<std::size_t> order = shaderLayerOrder(layers);
-            for (int unit = 0; unit < kMaxLiveLayers; ++unit) {
-                const bool used = unit < static_cast<int>(layers.size());
-                glBindTextureUnit(3 + unit,
-                                  used ? layers[order[static_cast<std::size_t>(unit)]].texture : flatRelief);
-                glBindSampler(3 + unit, sampler);
+            for (int layer = 0; layer < shared::kMaxLiveLayers; ++layer) {
+                const bool used = layer < static_cast<int>(layers.size());
+                const auto unit = static_cast<GLuint>(shared::kLayerUnit0 + layer);
+                glBindTextureUnit(unit,
+                                  used ? layers[order[static_cast<std::size_t>(layer)]].texture : flatRelief);
+                glBindSampler(unit, sampler);
             }
-            glBindTextureUnit(
-                11, material->composedAoTexture() != 0 ? material->composedAoTexture() : flatRelief);
+            glBindTextureUnit(shared::kComposedAoUnit, material->composedAoTexture() != 0
+                                                           ? material->composedAoTexture()
+                                                           : flatRelief);
         } else {
-            glBindTextureUnit(0, material != nullptr ? material->reliefTexture() : flatRelief);
-            glBindTextureUnit(1, material != nullptr ? material->colorTexture() : white);
-            glBindTextureUnit(2, material != nullptr ? material->reliefTexture() : flatRelief);
+            glBindTextureUnit(shared::kReliefUnit,
+                              material != nullptr ? material->reliefTexture() : flatRelief);
+            glBindTextureUnit(shared::kColorUnit, material != nullptr ? material->colorTexture() : white);
+            glBindTextureUnit(shared::kReliefShadeUnit,
+                              material != nullptr ? material->reliefTexture() : flatRelief);
         }
         if (material != nullptr && relief.technique == Technique::MaxMip) {
-            glBindTextureUnit(12, material->maxMipTexture());
-            glProgramUniform1i(id, location("uMaxMipLevels"), material->maxMipLevels());
+            glBindTextureUnit(shared::kMaxMipUnit, material->maxMipTexture());
+            uniforms.uMaxMipLevels = material->maxMipLevels();
         }
         if (material != nullptr && relief.technique == Technique::Cone) {
-            glBindTextureUnit(13, material->coneTexture());
-            glProgramUniform1f(id, location("uConeMaxRatio"), static_cast<float>(material->coneMaxRatio()));
+            // coneTexture() first: it makes the cone map, and with it the ratio, on first use.
+            glBindTextureUnit(shared::kConeMapUnit, material->coneTexture());
+            uniforms.uConeMaxRatio = static_cast<float>(material->coneMaxRatio());
         }
-        glBindSampler(0, sampler);
+        glBindSampler(shared::kReliefUnit, sampler);
+        glNamedBufferSubData(uniformBuffer, 0, sizeof(uniforms), &uniforms);
+        glBindBufferBase(GL_UNIFORM_BUFFER, shared::kReliefUniformsBinding, uniformBuffer);
         // A mirroring model turns counter-clockwise triangles clockwise on screen.
         glFrontFace(determinant < 0.0 ? GL_CW : GL_CCW);
         glBindVertexArray(object.mesh->vertexArray());
@@ -359,8 +361,10 @@ void ReliefRenderer::Impl::drawScene(const RenderRequest& request, int width, in
                     .c_str());
     }
     glBindVertexArray(0);
-    glBindSampler(0, 0);
-    for (int unit = 0; unit < kMaxLiveLayers; ++unit) glBindSampler(3 + unit, 0);
+    glBindSampler(shared::kReliefUnit, 0);
+    for (int layer = 0; layer < shared::kMaxLiveLayers; ++layer)
+        glBindSampler(static_cast<GLuint>(shared::kLayerUnit0 + layer), 0);
+    glBindBufferBase(GL_UNIFORM_BUFFER, shared::kReliefUniformsBinding, 0);
     glUseProgram(0);
     glFrontFace(GL_CCW);
 }
@@ -406,11 +410,10 @@ Image ReliefRenderer::render(const RenderRequest& request) {
     const RenderTarget& target = mImpl->target;
 
     glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer());
-    const glm::vec4 clear =
-        shaded ? glm::vec4(static_cast<float>(srgbToLinear(picture.background.r)),
-                             static_cast<float>(srgbToLinear(picture.background.g)),
-                             static_cast<float>(srgbToLinear(picture.background.b)), 1.0f)
-               : glm::vec4(0.0f);
+    const glm::vec4 clear = shaded ? glm::vec4(static_cast<float>(srgbToLinear(picture.background.r)),
+                                               static_cast<float>(srgbToLinear(picture.background.g)),
+                                               static_cast<float>(srgbToLinear(picture.background.b)), 1.0f)
+                                   : glm::vec4(0.0f);
     mImpl->drawScene(request, width, height, false, clear);
 
     std::vector<float> pixels(static_cast<std::size_t>(width) * height * 4);

@@ -16,6 +16,8 @@
 #include "strata/relief/dual_depth.h"
 #include "strata/relief/relief_texture.h"
 
+#include "shared/relief_bindings.h"
+
 #include <optional>
 #include <span>
 #include <vector>
@@ -153,7 +155,7 @@ GpuMaterial uploadLiveMaterial(std::span<const CompositionLayer> layers, const C
 // 0.
 GpuMaterial uploadDualDepth(const DualDepthTexture& texture);
 
-// The most layers a live meta-relief has (the shader's sampler array).
-inline constexpr int kMaxLiveLayers = 8;
+// The most layers a live meta-relief has (the shader's sampler array; shaders/shared/relief_bindings.h).
+inline constexpr int kMaxLiveLayers = shared::kMaxLiveLayers;
 
 }  // namespace strata::gl
