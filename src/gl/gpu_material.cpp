@@ -4,6 +4,7 @@
 
 #include "strata/core/error.h"
 #include "strata/gl/gl_error.h"
+#include "strata/image/quantize.h"
 #include "strata/relief/cone_map.h"
 #include "strata/relief/max_mip.h"
 
@@ -83,7 +84,8 @@ GLuint makeMaxMip(const Image& depth, int* levelCount) {
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     for (std::size_t k = 0; k < levels.size(); ++k) {
         std::vector<std::uint16_t> texels(levels[k].pixels().size());
-        std::transform(levels[k].pixels().begin(), levels[k].pixels().end(), texels.begin(), toUnorm16);
+        std::transform(levels[k].pixels().begin(), levels[k].pixels().end(), texels.begin(),
+                       [](float v) { return toUnorm16(v); });
         glTextureSubImage2D(texture, static_cast<GLint>(k), 0, 0, levels[k].width(), levels[k].height(),
                             GL_RED, GL_UNSIGNED_SHORT, texels.data());
     }
@@ -97,7 +99,7 @@ GLuint makeMaxMip(const Image& depth, int* levelCount) {
 // height field the shader intersects.
 Image uploadedDepth(const Image& depth) {
     Image result = depth;
-    for (float& d : result.pixels()) d = static_cast<float>(toUnorm16(d)) / 65535.0f;
+    for (float& d : result.pixels()) d = quantizeUnorm16(d);
     return result;
 }
 
@@ -106,7 +108,8 @@ GLuint makeConeMap(const Image& depth, double* maxRatio) {
     const PackedConeMap packed = packConeMap(depth);
     const int width = depth.width(), height = depth.height();
     std::vector<std::uint16_t> texels(packed.texels.pixels().size());
-    std::transform(packed.texels.pixels().begin(), packed.texels.pixels().end(), texels.begin(), toUnorm16);
+    std::transform(packed.texels.pixels().begin(), packed.texels.pixels().end(), texels.begin(),
+                   [](float v) { return toUnorm16(v); });
     GLuint texture = 0;
     glCreateTextures(GL_TEXTURE_2D, 1, &texture);
     glTextureStorage2D(texture, 1, GL_RG16, width, height);
@@ -248,7 +251,8 @@ void GpuMaterial::setComposedAo(const Image& ao, double aoDepthScale) {
         throw Error(ErrorKind::InvalidInput, "GpuMaterial::setComposedAo: AO depth scale must be > 0, got " +
                                                  formatNumber(aoDepthScale));
     std::vector<std::uint16_t> texels(ao.pixels().size());
-    std::transform(ao.pixels().begin(), ao.pixels().end(), texels.begin(), toUnorm16);
+    std::transform(ao.pixels().begin(), ao.pixels().end(), texels.begin(),
+                   [](float v) { return toUnorm16(v); });
     const GLuint texture = makeTexture(GL_R16, ao.width(), ao.height(), GL_RED, GL_UNSIGNED_SHORT, texels, 1);
     if (mComposedAo != 0) glDeleteTextures(1, &mComposedAo);
     mComposedAo = texture;

@@ -5,6 +5,7 @@
 #include "strata/compose/gradient_normals.h"
 #include "strata/core/error.h"
 #include "strata/gl/gl_error.h"
+#include "strata/image/quantize.h"
 #include "strata/occlusion/ambient_occlusion.h"
 
 #include <epoxy/gl.h>

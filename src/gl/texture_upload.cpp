@@ -1,6 +1,9 @@
 #include "texture_upload.h"
 
+#include "strata/image/quantize.h"
 #include "strata/relief/texture_set.h"
+
+#include <algorithm>
 
 #include <cstddef>
 #include <vector>
@@ -79,7 +82,8 @@ GLuint makeColorTexture(const Image& color) {
 GLuint makePackedTexture(const ReliefTexture& texture) {
     const Image packed = packRelief(texture);
     std::vector<std::uint16_t> texels(packed.pixels().size());
-    std::transform(packed.pixels().begin(), packed.pixels().end(), texels.begin(), toUnorm16);
+    std::transform(packed.pixels().begin(), packed.pixels().end(), texels.begin(),
+                   [](float v) { return toUnorm16(v); });
     return makeTexture(GL_RGBA16, packed.width(), packed.height(), GL_RGBA, GL_UNSIGNED_SHORT,
                        std::span<const std::uint16_t>(texels), 4);
 }

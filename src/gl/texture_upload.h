@@ -1,6 +1,8 @@
 // Texture uploads that every renderer in strata::gl shares (internal to the module): tiling 2-D textures with
 // full mipmaps and anisotropic filtering, in the row order and channel layouts of CONVENTIONS §1 and §5.
 //
+// 8- and 16-bit values are quantised by strata/image/quantize.h (toUnorm8, toUnorm16: correctly rounded).
+//
 // Everything here needs a current OpenGL 4.5 core context; the caller owns the returned texture names
 // (glDeleteTextures) and checks for GL errors (checkGl) after its pass.
 #pragma once
@@ -10,8 +12,6 @@
 
 #include <epoxy/gl.h>
 
-#include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <span>
 
@@ -40,14 +40,5 @@ GLuint makeColorTexture(const Image& color);
 
 // The packed relief texture (packRelief, CONVENTIONS §5: R, G = n.xy * 0.5 + 0.5, B = AO, A = d) as RGBA16.
 GLuint makePackedTexture(const ReliefTexture& texture);
-
-// [0, 1] to 16 and 8 bits as the uploads have always rounded them: clamped, times 2^n - 1 in float, rounded
-// half away from zero.
-inline std::uint16_t toUnorm16(float value) {
-    return static_cast<std::uint16_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * 65535.0f));
-}
-inline std::uint8_t toUnorm8(float value) {
-    return static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f));
-}
 
 }  // namespace strata::gl
