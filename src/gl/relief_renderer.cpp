@@ -14,7 +14,6 @@
 
 #include <epoxy/gl.h>
 #include <glm/geometric.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
