@@ -11,6 +11,8 @@
 // Run: build/release/bench/bench_render
 #include "strata/compose/compose.h"
 #include "strata/gl/context.h"
+#include "strata/gl/gpu_material.h"
+#include "strata/gl/gpu_mesh.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
 #include "strata/relief/patterns.h"

@@ -19,6 +19,8 @@
 // pixels, 0 if none). The benchmark time is that of the whole measurement, not of a frame.
 // Run: build/release/bench/bench_techniques
 #include "strata/gl/context.h"
+#include "strata/gl/gpu_material.h"
+#include "strata/gl/gpu_mesh.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
 #include "strata/relief/cone_map.h"

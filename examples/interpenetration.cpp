@@ -2,6 +2,8 @@
 // plane, with depth correction (gl_FragDepth of the relief point) and without it, side by side.
 // Run: build/release/examples/example_interpenetration docs/img   -> docs/img/render_interpenetration.png
 #include "strata/gl/context.h"
+#include "strata/gl/gpu_material.h"
+#include "strata/gl/gpu_mesh.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/image/image_io.h"
 #include "strata/mesh/builtin_meshes.h"

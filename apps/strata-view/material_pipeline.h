@@ -21,7 +21,7 @@
 
 #include "material_bake.h"
 
-#include "strata/gl/relief_renderer.h"
+#include "strata/gl/gpu_material.h"
 #include "strata/scene/scene_material.h"
 
 #include <chrono>

@@ -7,6 +7,8 @@
 #include "orbit_camera.h"
 #include "viewer.h"
 
+#include "strata/gl/gpu_material.h"
+#include "strata/gl/gpu_mesh.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/image/image.h"
 #include "strata/mesh/mesh.h"

@@ -4,6 +4,8 @@
 
 #include "strata/core/error.h"
 #include "strata/gl/context.h"
+#include "strata/gl/gpu_material.h"
+#include "strata/gl/gpu_mesh.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/gl/scene_material.h"
 #include "strata/mesh/mesh.h"

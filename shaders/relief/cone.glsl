@@ -8,8 +8,10 @@
 // m_C the cell's highest point and c_C its cone's ratio, in cells per unit of depth.
 #include "bilinear_cell.glsl"
 
-layout(binding = 13) uniform sampler2D uConeMap;  // RG16, see above
-uniform float uConeMaxRatio;                       // the ratio that sqrt(...) = 1 encodes
+#include "shared/relief_uniforms.h"
+
+layout(binding = kConeMapUnit) uniform sampler2D uConeMap;  // RG16, see above
+// uConeMaxRatio, the ratio that sqrt(...) = 1 encodes: the per-draw block.
 
 vec2 coneTexel(ivec2 texel) {
     return texelFetch(uConeMap, texel, 0).rg;

@@ -10,8 +10,10 @@
 // builds it, power-of-two maps only).
 #include "bilinear_cell.glsl"
 
-layout(binding = 12) uniform sampler2D uMaxMip;  // R16: the highest point (smallest d) per node
-uniform int uMaxMipLevels;                       // levels of uMaxMip (the top one is 1 x 1)
+#include "shared/relief_uniforms.h"
+
+layout(binding = kMaxMipUnit) uniform sampler2D uMaxMip;  // R16: the highest point (smallest d) per node
+// uMaxMipLevels, the levels of uMaxMip (the top one is 1 x 1): the per-draw block.
 
 float maxMipNode(ivec2 texel, int level) {
     return texelFetch(uMaxMip, texel, level).r;

@@ -3,7 +3,7 @@
 // appendix's main_frag_relief), parallax, normal and texture mapping, plain surfaces, and the debug outputs
 // of CONVENTIONS §7. docs/renderer.md describes the variants.
 //
-// Variant flags (src/gl/program.cpp, variantDefines), one of each group:
+// Variant flags (src/gl/relief_program.cpp, variantDefines), one of each group:
 //   STRATA_PLAIN | STRATA_TECHNIQUE_TEXTURE | STRATA_TECHNIQUE_NORMAL | STRATA_TECHNIQUE_PARALLAX |
 //   STRATA_TECHNIQUE_RELIEF | STRATA_TECHNIQUE_MAXMIP | STRATA_TECHNIQUE_CONE | STRATA_TECHNIQUE_DUAL_DEPTH
 //   STRATA_OUTPUT_SHADED | STRATA_OUTPUT_UV | STRATA_OUTPUT_SHADOW | STRATA_OUTPUT_DEPTH
@@ -40,26 +40,11 @@ in VertexData {
     vec3 tileLength;
 } vIn;
 
-layout(binding = 1) uniform sampler2D uColor;  // SRGB8_ALPHA8: sampling returns linear colour
+// The per-draw uniforms (uEye, uDepthScale, the light, ...): shared/relief_uniforms.h (relief_search.glsl).
+layout(binding = kColorUnit) uniform sampler2D uColor;  // SRGB8_ALPHA8: sampling returns linear colour
 // The packed relief texture again, with its own 16x anisotropic filtering, for the shaded output's final
 // normal and AO fetch (the searches read uRelief through a trilinear sampler: relief_renderer.cpp).
-layout(binding = 2) uniform sampler2D uReliefShade;
-
-uniform vec3 uEye;             // world
-uniform mat4 uViewProjection;  // world -> clip, for depth correction
-uniform float uDepthScale;     // S of the render, tile widths (CONVENTIONS §2)
-uniform float uNormalScale;    // S_render / S_material: the packed normals are valid at S_material
-uniform int uLinearSteps;      // N, linear search steps at normal incidence
-uniform int uBinarySteps;      // binary search steps
-uniform vec3 uLightPosition;   // world
-uniform vec3 uLightColor;      // linear RGB
-uniform float uAmbient;
-uniform float uSpecular;
-uniform float uShininess;
-uniform float uAoScale;        // S_render / S_ao, for STRATA_AO_PAPER
-uniform vec3 uPlainColor;      // linear albedo of a plain surface
-uniform bool uEncodeSrgb;      // shaded: write sRGB-encoded values (draw()) instead of linear (render())
-uniform float uColorTiling;    // colour repeats per tile (a live meta-relief's colour layer's t; else 1)
+layout(binding = kReliefShadeUnit) uniform sampler2D uReliefShade;
 
 #ifdef STRATA_DEPTH_CORRECTION
 // The relief point is never nearer than the polygon (t >= 0 along the view ray), so depth only grows: the
@@ -86,12 +71,8 @@ vec3 tileNormal(vec4 texel) {
 }
 
 #ifdef STRATA_META_LIVE
-uniform float uLayerNormalWeight[kMaxLayers];  // w_n,i / sum_j w_n,j
-uniform float uLayerAoScale[kMaxLayers];       // S_i now / S_i baked (meta_relief_ao.h), for aoRescalePaper
-uniform bool uMetaConsistent;  // normals of the composed depth (NormalMode::Consistent), else paper Eq. 1
-uniform float uLayerNormalScale[kMaxLayers];  // consistent: the S_L of each layer's normals (below)
-uniform int uMetaAo;              // 0 none, 1 multiply, 2 min (the layers' AO), 3 the composed AO map
-layout(binding = 11) uniform sampler2D uComposedAo;  // R: AO of the composed depth (uMetaAo 3)
+// uLayerNormalWeight, uLayerAoScale, uMetaConsistent, uLayerNormalScale, uMetaAo: the per-draw block.
+layout(binding = kComposedAoUnit) uniform sampler2D uComposedAo;  // R: AO of the composed depth (uMetaAo 3)
 
 // The shaded normal (tile space, at the render's S) and AO of a live meta-relief at tile coordinates uv.
 //   paper (Eq. 1): n = normalize(sum_i w_n,i n_i(t_i uv)), then rescaled to the render's S like a baked
@@ -107,7 +88,7 @@ void metaShade(vec2 uv, out vec3 n, out float ao) {
     vec2 gradient = vec2(0.0);
     float aoProduct = 1.0;
     float aoMin = 1.0;
-    for (int i = 0; i < kMaxLayers; ++i) {
+    for (int i = 0; i < kMaxLiveLayers; ++i) {
         if (i >= uLayerCount) break;
         float t = uLayerTiling[i];
         vec2 layerUv = uv * t;
@@ -122,7 +103,7 @@ void metaShade(vec2 uv, out vec3 n, out float ao) {
             aoMin = min(aoMin, layerAo);
         }
     }
-    if (uMetaConsistent) {
+    if (uMetaConsistent != 0) {
         n = normalize(vec3(uDepthScale * gradient, 1.0));
     } else {
         vec3 m = normalize(sum);
@@ -345,6 +326,6 @@ void main() {
     float specular = diffuse > 0.0 ? uSpecular * pow(max(dot(normal, H), 0.0), uShininess) : 0.0;
     vec3 color = uAmbient * ao * albedo;
     if (lit) color += uLightColor * (diffuse * albedo + specular);
-    fColor = vec4(uEncodeSrgb ? linearToSrgb(color) : color, 1.0);
+    fColor = vec4(uEncodeSrgb != 0 ? linearToSrgb(color) : color, 1.0);
 #endif
 }

@@ -3,7 +3,7 @@
 // mapping is done in tangent space, from "the texture coordinates and the tangent, normal and binormal
 // vectors associated to the vertices of the model" (Sec. 5).
 //
-// Attributes (src/gl/relief_renderer.cpp, uploadMesh): the Mesh's position, normal, uv and tangent
+// Attributes (src/gl/gpu_mesh.cpp, uploadMesh): the Mesh's position, normal, uv and tangent
 // (xyz + handedness w, B = w cross(N, T)), and uvLength = (|dP/du|, |dP/dv|), the object-space length of a
 // unit of uv along T and B.
 
@@ -13,11 +13,8 @@ layout(location = 2) in vec2 aUv;
 layout(location = 3) in vec4 aTangent;
 layout(location = 4) in vec2 aUvLength;
 
-uniform mat4 uModel;            // object -> world
-uniform mat3 uNormalMatrix;     // inverse transpose of uModel's upper 3x3
-uniform float uMirror;          // sign of det(uModel): a mirroring model flips the bitangent
-uniform mat4 uViewProjection;   // world -> clip
-uniform float uTiling;          // tiles per unit of mesh uv (tile coordinates = tiling * uv)
+// uModel, uNormalMatrix, uMirror, uViewProjection, uTiling: the per-draw block.
+#include "shared/relief_uniforms.h"
 
 out VertexData {
     vec3 worldPosition;

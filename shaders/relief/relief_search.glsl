@@ -16,8 +16,9 @@
 //   - debug outputs (uv, shadow, depth): textureLod(..., 0), the base level's bilinear height field that
 //     CONVENTIONS §1 defines and the exact CPU tracer intersects.
 #include "shared/relief_search.h"
+#include "shared/relief_uniforms.h"
 
-layout(binding = 0) uniform sampler2D uRelief;  // packed relief texture, CONVENTIONS §5
+layout(binding = kReliefUnit) uniform sampler2D uRelief;  // packed relief texture, CONVENTIONS §5
 
 vec2 gTileDx = vec2(0.0);  // derivatives of the fragment's tile coordinates (shaded output only)
 vec2 gTileDy = vec2(0.0);
@@ -31,29 +32,24 @@ vec4 reliefSample(vec2 uv) {
 }
 
 #ifdef STRATA_META_LIVE
-// Live meta-relief (Limberger et al. 2015, Sec. III-A): up to kMaxLayers layers, each its own packed texture
+// Live meta-relief (Limberger et al. 2015, Sec. III-A): up to kMaxLiveLayers layers, each its own packed texture
 // (CONVENTIONS §5 layout) at its own resolution and tiling t_i, combined per fragment. The depth the searches
 // see is paper Eq. 2, D(uv) = sum_i (w_d,i / W) d_i(t_i uv), W = sum_j w_d,j; the weights arrive normalised.
 // Nothing is baked, so fractional tilings have no seam and a weight change needs no re-bake.
-const int kMaxLayers = 8;
-layout(binding = 3) uniform sampler2D uLayers[kMaxLayers];
-uniform int uLayerCount;
-uniform float uLayerTiling[kMaxLayers];
-uniform float uLayerDepthWeight[kMaxLayers];  // w_d,i / W
+layout(binding = kLayerUnit0) uniform sampler2D uLayers[kMaxLiveLayers];
 // The renderer binds the layers in the searches' order (largest weighted depth range first; Eq. 1 and 2
-// do not depend on the order), and gives for each layer i the bounds of what the layers after it can add
-// to Eq. 2: the sums of (w_d,j / W) min d_j and (w_d,j / W) max d_j over j > i (reliefBelow).
-uniform float uLayerRestLow[kMaxLayers];
-uniform float uLayerRestHigh[kMaxLayers];
+// do not depend on the order). uLayerCount, uLayerTiling, uLayerDepthWeight (w_d,i / W) and, for each layer
+// i, the bounds of what the layers after it can add to Eq. 2, uLayerRestLow and uLayerRestHigh (the sums of
+// (w_d,j / W) min d_j and (w_d,j / W) max d_j over j > i, reliefBelow), are in the per-draw block.
 
 // Each layer's mip level for the fragment, set once in uniform control flow (layerLods): the searches read
 // every layer at every step, and an explicit level spares each fetch the derivative-to-level computation.
-float gLayerLod[kMaxLayers];
+float gLayerLod[kMaxLiveLayers];
 
 // GL's isotropic level of detail for layer i: the layer repeats t_i times per tile, so its footprint is
 // t_i times larger.
 void layerLods() {
-    for (int i = 0; i < kMaxLayers; ++i) {
+    for (int i = 0; i < kMaxLiveLayers; ++i) {
         if (i >= uLayerCount) break;
         vec2 size = vec2(textureSize(uLayers[i], 0)) * uLayerTiling[i];
         float footprint = max(length(gTileDx * size), length(gTileDy * size));
@@ -76,7 +72,7 @@ vec4 layerSample(int i, vec2 uv) {
 float reliefDepth(vec2 uv) {
 #ifdef STRATA_META_LIVE
     float depth = 0.0;
-    for (int i = 0; i < kMaxLayers; ++i) {
+    for (int i = 0; i < kMaxLiveLayers; ++i) {
         if (i >= uLayerCount) break;
         if (uLayerDepthWeight[i] > 0.0) depth += uLayerDepthWeight[i] * layerSample(i, uv).a;
     }
@@ -95,7 +91,7 @@ float reliefDepth(vec2 uv) {
 bool reliefBelow(vec2 uv, float depth, bool strict) {
 #ifdef STRATA_META_LIVE
     float partial = 0.0;
-    for (int i = 0; i < kMaxLayers; ++i) {
+    for (int i = 0; i < kMaxLiveLayers; ++i) {
         if (i >= uLayerCount) break;
         if (uLayerDepthWeight[i] > 0.0) partial += uLayerDepthWeight[i] * layerSample(i, uv).a;
         if (depth < partial + uLayerRestLow[i]) return false;

@@ -1,6 +1,5 @@
 #include "strata/gl/program.h"
 
-#include "embedded_shaders.h"
 #include "strata/core/error.h"
 #include "strata/gl/gl_error.h"
 
@@ -9,147 +8,12 @@
 #include <algorithm>
 #include <cstring>
 #include <regex>
-#include <set>
 #include <sstream>
+#include <string>
 #include <utility>
+#include <vector>
 
 namespace strata::gl {
-
-ShaderLibrary::ShaderLibrary(std::map<std::string, std::string> files) : mFiles(std::move(files)) {}
-
-const ShaderLibrary& ShaderLibrary::embedded() {
-    static const ShaderLibrary library = [] {
-        std::map<std::string, std::string> files;
-        for (std::size_t i = 0; i < detail::kEmbeddedShaderFileCount; ++i) {
-            files.emplace(detail::kEmbeddedShaderFiles[i].path,
-                          std::string(detail::kEmbeddedShaderFiles[i].content));
-        }
-        return ShaderLibrary(std::move(files));
-    }();
-    return library;
-}
-
-namespace {
-
-std::vector<std::string> splitLines(const std::string& text) {
-    std::vector<std::string> lines;
-    std::istringstream stream(text);
-    for (std::string line; std::getline(stream, line);) {
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        lines.push_back(line);
-    }
-    return lines;
-}
-
-std::string folderOf(const std::string& path) {
-    const std::size_t slash = path.rfind('/');
-    return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-}
-
-// "a/b/../c.glsl" -> "a/c.glsl"; "./" removed.
-std::string normalisePath(const std::string& path) {
-    std::vector<std::string> parts;
-    std::istringstream stream(path);
-    for (std::string part; std::getline(stream, part, '/');) {
-        if (part.empty() || part == ".") continue;
-        if (part == ".." && !parts.empty() && parts.back() != "..") {
-            parts.pop_back();
-        } else {
-            parts.push_back(part);
-        }
-    }
-    std::string result;
-    for (const std::string& part : parts) result += (result.empty() ? "" : "/") + part;
-    return result;
-}
-
-bool isVersionLine(const std::string& line) {
-    static const std::regex pattern(R"(^\s*#\s*version\b.*)");
-    return std::regex_match(line, pattern);
-}
-
-class Preprocessor {
-public:
-    explicit Preprocessor(const std::map<std::string, std::string>& library) : mFiles(library) {}
-
-    // Appends `path` from line `firstLine` (1-based) on, resolving includes.
-    void append(const std::string& path, std::size_t firstLine, std::vector<std::string>& stack) {
-        static const std::regex includePattern(R"re(^\s*#\s*include\s+"([^"]+)"\s*(//.*)?$)re");
-        const int index = fileIndex(path);
-        const std::vector<std::string> lines = splitLines(mFiles.at(path));
-        stack.push_back(path);
-        for (std::size_t i = firstLine - 1; i < lines.size(); ++i) {
-            const std::string& line = lines[i];
-            std::smatch match;
-            if (isVersionLine(line)) {
-                fail(path, i + 1, "#version is allowed only on the first line of a stage file");
-            }
-            if (!std::regex_match(line, match, includePattern)) {
-                out += line + "\n";
-                continue;
-            }
-            const std::string name = match[1].str();
-            std::string resolved = normalisePath(folderOf(path) + name);
-            if (mFiles.count(resolved) == 0) resolved = normalisePath(name);
-            if (mFiles.count(resolved) == 0) {
-                fail(path, i + 1,
-                     "#include \"" + name + "\" not found (looked in '" + folderOf(path) +
-                         "' and the shader root)");
-            }
-            if (std::find(stack.begin(), stack.end(), resolved) != stack.end()) {
-                fail(path, i + 1, "#include \"" + name + "\" is an include cycle");
-            }
-            if (mIncluded.insert(resolved).second) {
-                out += "#line 1 " + std::to_string(fileIndex(resolved)) + "\n";
-                append(resolved, 1, stack);
-                out += "#line " + std::to_string(i + 2) + " " + std::to_string(index) + "\n";
-            } else {
-                out += "\n";  // already pasted (include once); keep the line count
-            }
-        }
-        stack.pop_back();
-    }
-
-    int fileIndex(const std::string& path) {
-        const auto it = std::find(files.begin(), files.end(), path);
-        if (it != files.end()) return static_cast<int>(it - files.begin());
-        files.push_back(path);
-        return static_cast<int>(files.size() - 1);
-    }
-
-    [[noreturn]] static void fail(const std::string& path, std::size_t line, const std::string& what) {
-        throw Error(ErrorKind::InvalidInput, "shader " + path + ":" + std::to_string(line) + ": " + what);
-    }
-
-    std::string out;
-    std::vector<std::string> files;
-
-private:
-    const std::map<std::string, std::string>& mFiles;
-    std::set<std::string> mIncluded;
-};
-
-}  // namespace
-
-PreprocessedSource ShaderLibrary::preprocess(const std::string& path,
-                                             const std::vector<std::string>& defines) const {
-    const auto it = mFiles.find(path);
-    if (it == mFiles.end()) {
-        throw Error(ErrorKind::InvalidInput, "shader " + path + ": no such file in the shader library");
-    }
-    const std::vector<std::string> lines = splitLines(it->second);
-    if (lines.empty() || !isVersionLine(lines[0])) {
-        Preprocessor::fail(path, 1, "a stage file must start with its #version line");
-    }
-    Preprocessor preprocessor(mFiles);
-    preprocessor.fileIndex(path);
-    preprocessor.out = lines[0] + "\n";
-    for (const std::string& define : defines) preprocessor.out += "#define " + define + "\n";
-    preprocessor.out += "#line 2 0\n";
-    std::vector<std::string> stack;
-    preprocessor.append(path, 2, stack);
-    return {std::move(preprocessor.out), std::move(preprocessor.files)};
-}
 
 Program::~Program() {
     if (mId != 0) glDeleteProgram(mId);
@@ -188,7 +52,9 @@ std::string mapLog(const std::string& log, const std::vector<std::string>& files
         return i < files.size() ? files[i] : "source " + index;
     };
     std::string result;
-    for (const std::string& line : splitLines(log)) {
+    std::istringstream stream(log);
+    for (std::string line; std::getline(stream, line);) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
         std::smatch match;
         if (std::regex_search(line, match, mesa)) {
             result += match[1].str() + name(match[2]) + ":" + match[3].str() + "(" + match[4].str() + ")" +
@@ -267,136 +133,6 @@ Program buildProgram(const ShaderLibrary& library, const std::string& vertexPath
     }
     checkGl(("building program " + label).c_str());
     return program;
-}
-
-ProgramVariant canonical(ProgramVariant variant) {
-    if (variant.plain) {
-        variant.technique = Technique::Texture;
-        variant.shadows = false;
-        variant.depthCorrection = false;
-        variant.ao = AoMode::Off;
-        variant.live = false;
-        return variant;
-    }
-    const bool displaced = variant.technique == Technique::Relief ||
-                           variant.technique == Technique::Parallax ||
-                           variant.technique == Technique::MaxMip || variant.technique == Technique::Cone ||
-                           variant.technique == Technique::DualDepth;
-    if (variant.output != RenderOutput::Shaded && variant.output != RenderOutput::Shadow)
-        variant.shadows = false;
-    if (!displaced) variant.depthCorrection = false;
-    // Texture mapping reads no AO; a dual-depth texture has none (its B channel is the front depth).
-    if (variant.output != RenderOutput::Shaded || variant.technique == Technique::Texture ||
-        variant.technique == Technique::DualDepth)
-        variant.ao = AoMode::Off;
-    // Live layers matter where the program reads the relief: a search, the shadow test, or normal mapping.
-    const bool readsRelief =
-        displaced || variant.shadows ||
-        (variant.technique == Technique::Normal && variant.output == RenderOutput::Shaded);
-    // The maximum mipmap and the cone map are built from one baked depth texture (uploadMaterial).
-    if (!readsRelief || variant.technique == Technique::MaxMip || variant.technique == Technique::Cone ||
-        variant.technique == Technique::DualDepth)
-        variant.live = false;
-    return variant;
-}
-
-std::vector<ProgramVariant> allVariants() {
-    std::vector<ProgramVariant> variants;
-    for (const bool plain : {false, true}) {
-        for (const Technique technique : kAllTechniques) {
-            for (const RenderOutput output :
-                 {RenderOutput::Shaded, RenderOutput::Uv, RenderOutput::Shadow, RenderOutput::Depth}) {
-                for (const bool shadows : {false, true}) {
-                    for (const bool depthCorrection : {false, true}) {
-                        for (const AoMode ao : {AoMode::Off, AoMode::Baked, AoMode::Paper}) {
-                            for (const bool live : {false, true}) {
-                                const ProgramVariant variant =
-                                    canonical({technique, output, plain, shadows, depthCorrection, ao, live});
-                                if (std::find(variants.begin(), variants.end(), variant) == variants.end()) {
-                                    variants.push_back(variant);
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-    return variants;
-}
-
-std::string variantName(const ProgramVariant& variant) {
-    std::string name = variant.plain ? "plain" : toString(variant.technique);
-    name += std::string("-") + toString(variant.output);
-    if (variant.shadows) name += "-shadows";
-    if (variant.depthCorrection) name += "-depthcorrect";
-    if (variant.ao == AoMode::Baked) name += "-ao";
-    if (variant.ao == AoMode::Paper) name += "-aopaper";
-    if (variant.live) name += "-live";
-    return name;
-}
-
-std::vector<std::string> variantDefines(const ProgramVariant& variant) {
-    std::vector<std::string> defines;
-    if (variant.plain) {
-        defines.emplace_back("STRATA_PLAIN");
-    } else {
-        switch (variant.technique) {
-            case Technique::Texture:
-                defines.emplace_back("STRATA_TECHNIQUE_TEXTURE");
-                break;
-            case Technique::Normal:
-                defines.emplace_back("STRATA_TECHNIQUE_NORMAL");
-                break;
-            case Technique::Parallax:
-                defines.emplace_back("STRATA_TECHNIQUE_PARALLAX");
-                break;
-            case Technique::Relief:
-                defines.emplace_back("STRATA_TECHNIQUE_RELIEF");
-                break;
-            case Technique::MaxMip:
-                defines.emplace_back("STRATA_TECHNIQUE_MAXMIP");
-                break;
-            case Technique::Cone:
-                defines.emplace_back("STRATA_TECHNIQUE_CONE");
-                break;
-            case Technique::DualDepth:
-                defines.emplace_back("STRATA_TECHNIQUE_DUAL_DEPTH");
-                break;
-        }
-    }
-    switch (variant.output) {
-        case RenderOutput::Shaded:
-            defines.emplace_back("STRATA_OUTPUT_SHADED");
-            break;
-        case RenderOutput::Uv:
-            defines.emplace_back("STRATA_OUTPUT_UV");
-            break;
-        case RenderOutput::Shadow:
-            defines.emplace_back("STRATA_OUTPUT_SHADOW");
-            break;
-        case RenderOutput::Depth:
-            defines.emplace_back("STRATA_OUTPUT_DEPTH");
-            break;
-    }
-    if (variant.shadows) defines.emplace_back("STRATA_SHADOWS");
-    if (variant.depthCorrection) defines.emplace_back("STRATA_DEPTH_CORRECTION");
-    if (variant.ao != AoMode::Off) defines.emplace_back("STRATA_AO");
-    if (variant.ao == AoMode::Paper) defines.emplace_back("STRATA_AO_PAPER");
-    if (variant.live) defines.emplace_back("STRATA_META_LIVE");
-    return defines;
-}
-
-PreprocessedSource variantSource(const ProgramVariant& variant, ShaderStage stage) {
-    const ProgramVariant v = canonical(variant);
-    return ShaderLibrary::embedded().preprocess(
-        stage == ShaderStage::Vertex ? kSurfaceVertexShader : kSurfaceFragmentShader, variantDefines(v));
-}
-
-Program buildVariantProgram(const ProgramVariant& variant) {
-    const ProgramVariant v = canonical(variant);
-    return buildProgram(ShaderLibrary::embedded(), kSurfaceVertexShader, kSurfaceFragmentShader,
-                        variantDefines(v), variantName(v));
 }
 
 }  // namespace strata::gl

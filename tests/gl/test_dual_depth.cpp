@@ -2,6 +2,8 @@
 // verification quad against the analytic object it samples: a sphere below the quad.
 #include "gl_test_support.h"
 #include "strata/core/error.h"
+#include "strata/gl/gpu_material.h"
+#include "strata/gl/gpu_mesh.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
 #include "strata/relief/dual_depth.h"

@@ -3,6 +3,8 @@
 #include "gl_test_support.h"
 #include "strata/compose/compose.h"
 #include "strata/core/error.h"
+#include "strata/gl/gpu_material.h"
+#include "strata/gl/gpu_mesh.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/mesh/builtin_meshes.h"
 #include "strata/occlusion/ambient_occlusion.h"

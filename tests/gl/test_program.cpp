@@ -1,17 +1,21 @@
 // Programs: include resolution, #line mapping of driver errors, every variant in GL and in glslangValidator,
 // and the shared GLSL/C++ step count.
+#include "gl/relief_program.h"  // internal: the relief renderer's variants
 #include "gl_test_support.h"
 #include "shared/relief_search.h"
+#include "shared/relief_uniforms.h"
 #include "strata/core/error.h"
 #include "strata/core/file.h"
 #include "strata/gl/program.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/scene/render_settings.h"
 
+#include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 #include <cstdlib>
 #include <fstream>
@@ -166,6 +170,77 @@ TEST_F(ProgramGl, EveryVariantCompilesAndLinks) {
     for (const ProgramVariant& variant : allVariants()) {
         EXPECT_NO_THROW(renderer.prepare(variant)) << variantName(variant);
     }
+}
+
+// The driver lays the per-draw block out as the C++ struct says (shaders/shared/relief_uniforms.h): its
+// static_asserts check the C++ side against std140's rules, this checks the GLSL side against the same
+// numbers. Exact: byte offsets.
+TEST_F(ProgramGl, UniformBlockLayoutIsTheSharedStruct) {
+    using shared::ReliefUniforms;
+    ProgramVariant variant;
+    variant.live = true;
+    variant.shadows = true;
+    variant.ao = AoMode::Paper;
+    const Program program = buildVariantProgram(variant);
+    const GLuint block = glGetProgramResourceIndex(program.id(), GL_UNIFORM_BLOCK, "ReliefUniforms");
+    ASSERT_NE(block, GL_INVALID_INDEX);
+    const GLenum sizeProperty = GL_BUFFER_DATA_SIZE;
+    GLint size = 0;
+    glGetProgramResourceiv(program.id(), GL_UNIFORM_BLOCK, block, 1, &sizeProperty, 1, nullptr, &size);
+    EXPECT_EQ(static_cast<std::size_t>(size), sizeof(ReliefUniforms));
+#define STRATA_MEMBER(name, glslName) \
+    { glslName, offsetof(ReliefUniforms, name) }
+    const struct {
+        const char* name;
+        std::size_t offset;
+    } members[] = {STRATA_MEMBER(uModel, "uModel"),
+                   STRATA_MEMBER(uViewProjection, "uViewProjection"),
+                   STRATA_MEMBER(uNormalMatrix, "uNormalMatrix"),
+                   STRATA_MEMBER(uEye, "uEye"),
+                   STRATA_MEMBER(uMirror, "uMirror"),
+                   STRATA_MEMBER(uLightPosition, "uLightPosition"),
+                   STRATA_MEMBER(uTiling, "uTiling"),
+                   STRATA_MEMBER(uLightColor, "uLightColor"),
+                   STRATA_MEMBER(uDepthScale, "uDepthScale"),
+                   STRATA_MEMBER(uPlainColor, "uPlainColor"),
+                   STRATA_MEMBER(uNormalScale, "uNormalScale"),
+                   STRATA_MEMBER(uLinearSteps, "uLinearSteps"),
+                   STRATA_MEMBER(uBinarySteps, "uBinarySteps"),
+                   STRATA_MEMBER(uAmbient, "uAmbient"),
+                   STRATA_MEMBER(uSpecular, "uSpecular"),
+                   STRATA_MEMBER(uShininess, "uShininess"),
+                   STRATA_MEMBER(uAoScale, "uAoScale"),
+                   STRATA_MEMBER(uEncodeSrgb, "uEncodeSrgb"),
+                   STRATA_MEMBER(uColorTiling, "uColorTiling"),
+                   STRATA_MEMBER(uMaxMipLevels, "uMaxMipLevels"),
+                   STRATA_MEMBER(uConeMaxRatio, "uConeMaxRatio"),
+                   STRATA_MEMBER(uLayerCount, "uLayerCount"),
+                   STRATA_MEMBER(uMetaConsistent, "uMetaConsistent"),
+                   STRATA_MEMBER(uMetaAo, "uMetaAo"),
+                   STRATA_MEMBER(uLayerTiling, "uLayerTiling[0]"),
+                   STRATA_MEMBER(uLayerDepthWeight, "uLayerDepthWeight[0]"),
+                   STRATA_MEMBER(uLayerRestLow, "uLayerRestLow[0]"),
+                   STRATA_MEMBER(uLayerRestHigh, "uLayerRestHigh[0]"),
+                   STRATA_MEMBER(uLayerNormalWeight, "uLayerNormalWeight[0]"),
+                   STRATA_MEMBER(uLayerAoScale, "uLayerAoScale[0]"),
+                   STRATA_MEMBER(uLayerNormalScale, "uLayerNormalScale[0]")};
+#undef STRATA_MEMBER
+    for (const auto& member : members) {
+        const GLuint index = glGetProgramResourceIndex(program.id(), GL_UNIFORM, member.name);
+        ASSERT_NE(index, GL_INVALID_INDEX) << member.name;
+        const GLenum properties[] = {GL_BLOCK_INDEX, GL_OFFSET, GL_ARRAY_STRIDE, GL_MATRIX_STRIDE};
+        GLint values[4] = {};
+        glGetProgramResourceiv(program.id(), GL_UNIFORM, index, 4, properties, 4, nullptr, values);
+        EXPECT_EQ(values[0], static_cast<GLint>(block)) << member.name;
+        EXPECT_EQ(static_cast<std::size_t>(values[1]), member.offset) << member.name;
+        const bool array = std::string(member.name).find('[') != std::string::npos;
+        EXPECT_EQ(values[2], array ? 16 : 0) << member.name;  // std140: a float array element per 16 bytes
+    }
+    const GLuint normalMatrix = glGetProgramResourceIndex(program.id(), GL_UNIFORM, "uNormalMatrix");
+    const GLenum matrixStride = GL_MATRIX_STRIDE;
+    GLint stride = 0;
+    glGetProgramResourceiv(program.id(), GL_UNIFORM, normalMatrix, 1, &matrixStride, 1, nullptr, &stride);
+    EXPECT_EQ(stride, 16);  // a mat3's columns, 16 bytes apart (glm::mat3x4 in C++)
 }
 
 TEST_F(ProgramGl, CompileErrorNamesFileAndLine) {

@@ -2,7 +2,10 @@
 // strata/trace/quad_reference.h), plus determinism, interpenetration and a shaded sanity check.
 #include "gl_test_support.h"
 #include "strata/core/error.h"
+#include "strata/gl/gpu_material.h"
+#include "strata/gl/gpu_mesh.h"
 #include "strata/gl/relief_renderer.h"
+#include "strata/image/srgb.h"
 #include "strata/mesh/builtin_meshes.h"
 #include "strata/relief/patterns.h"
 #include "strata/trace/quad_reference.h"
@@ -374,15 +377,6 @@ TEST_F(RendererGl, EveryTechniqueShadowsItsReliefPoint) {
     }
 }
 
-double srgbEncode(double c) {
-    c = std::clamp(c, 0.0, 1.0);
-    return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-}
-
-double srgbDecode(double c) {
-    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
-
 // A flat relief (d = 0, n = +z) under an overhead light: every pixel is the Blinn-Phong formula of the
 // plane z = 0 seen from the eye.
 TEST_F(RendererGl, ShadedFlatReliefMatchesBlinnPhong) {
@@ -408,7 +402,7 @@ TEST_F(RendererGl, ShadedFlatReliefMatchesBlinnPhong) {
     request.picture.samples = 4;  // interior pixels are covered by all samples: MSAA does not change them
     const Image image = renderer.render(request);
     // The colour texture is 8-bit sRGB: 0.5 is stored as 128 / 255.
-    const double albedo = srgbDecode(128.0 / 255.0);
+    const double albedo = srgbToLinear(128.0 / 255.0);
     int checked = 0;
     for (int y = 8; y < 128; y += 10) {
         for (int x = 8; x < 128; x += 10) {
@@ -425,7 +419,7 @@ TEST_F(RendererGl, ShadedFlatReliefMatchesBlinnPhong) {
                 // 2e-3: half-float storage (11-bit mantissa) and float shading, after the sRGB encoding;
                 // the 10 + 5 search puts the hit at d = 1/160 (6e-4 world units below z = 0), which moves
                 // the light and view vectors by ~1e-4.
-                EXPECT_NEAR(image.at(x, y, c), srgbEncode(linear), 2e-3) << x << ", " << y;
+                EXPECT_NEAR(image.at(x, y, c), linearToSrgb(linear), 2e-3) << x << ", " << y;
             }
             ++checked;
         }

@@ -15,6 +15,8 @@
 #include "strata/core/error.h"
 #include "strata/gl/context.h"
 #include "strata/gl/gl_error.h"
+#include "strata/gl/gpu_material.h"
+#include "strata/gl/gpu_mesh.h"
 #include "strata/gl/relief_renderer.h"
 #include "strata/image/image_io.h"
 #include "strata/mesh/builtin_meshes.h"

@@ -2,7 +2,7 @@
 // tests share. strata/scene/scene_material.h makes the CPU side (prepareSceneMaterial); this uploads it.
 #pragma once
 
-#include "strata/gl/relief_renderer.h"
+#include "strata/gl/gpu_material.h"
 #include "strata/scene/scene_material.h"
 
 namespace strata::gl {

@@ -49,4 +49,12 @@ struct Bounds {
 };
 Bounds meshBounds(const Mesh& mesh);
 
+// Per vertex, the object-space length of one unit of uv along T and along B: (|dP/du|, |dP/dv|), the
+// columns of each triangle's uv -> position Jacobian, as the area-weighted mean over the triangles around
+// the vertex. A triangle counts only where its uv determinant is above 1e-20 in magnitude, its area is > 0
+// and both lengths are finite; a vertex with no such triangle gets (1, 1). Indices must be in range and
+// come three per triangle (a trailing incomplete triangle is ignored). One entry per vertex, in double.
+// The renderer turns these into the world size of a tile unit (strata/gl/gpu_mesh.h, docs/renderer.md).
+std::vector<glm::dvec2> uvLengths(const Mesh& mesh);
+
 }  // namespace strata
