@@ -6,12 +6,12 @@
 //
 // Writes <out>/ao_methods_stone_bricks.png and prints markdown tables on stdout.
 #include "strata/compose/compose.h"
-#include "strata/scene/material.h"
 #include "strata/image/image_io.h"
 #include "strata/image/image_ops.h"
 #include "strata/occlusion/ambient_occlusion.h"
 #include "strata/occlusion/meta_relief_ao.h"
 #include "strata/relief/patterns.h"
+#include "strata/scene/material.h"
 
 #include <algorithm>
 #include <chrono>

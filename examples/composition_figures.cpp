@@ -4,8 +4,8 @@
 //  - for Shaped Fabric and the 3-layer material, the two normal modes side by side with the angle
 //    between them as a heat map (black 0 deg, white >= 20 deg), and the mean and largest angle.
 // Usage: example_composition_figures [EXAMPLES_DIR] [OUTPUT_DIR]   (defaults: examples docs/img)
-#include "strata/scene/material.h"
 #include "strata/image/image_io.h"
+#include "strata/scene/material.h"
 
 #include <algorithm>
 #include <cmath>

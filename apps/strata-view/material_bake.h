@@ -9,8 +9,8 @@
 // Not thread-safe: one bake at a time (MaterialPipeline runs them on its worker thread).
 #pragma once
 
-#include "strata/scene/material.h"
 #include "strata/relief/relief_texture.h"
+#include "strata/scene/material.h"
 #include "strata/scene/render_settings.h"
 #include "strata/scene/scene.h"
 

@@ -2,8 +2,8 @@
 //                [--ao exact|multiply|min|none] [--ao-method sweep|paper|brute] [--bit-depth 8|16]
 #include "cli_common.h"
 
-#include "strata/scene/material.h"
 #include "strata/core/error.h"
+#include "strata/scene/material.h"
 
 #include <nlohmann/json.hpp>
 

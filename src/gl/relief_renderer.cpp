@@ -48,9 +48,9 @@ struct ReliefRenderer::Impl {
     GLuint baseLevelSampler = 0;
     // For the shaded output's searches: trilinear mip mapping (paper Sec. 5) without anisotropy. The final
     // colour, normal and AO fetches keep the textures' own 16x anisotropic filtering (kColorUnit,
-    // kReliefShadeUnit). An anisotropic fetch in every search step costs up to 16 trilinear probes each; on
-    // llvmpipe, which does them in software, that made the teapot 10-30x slower (35 s instead of 1 s at
-    // 320x180), and on a GPU it only blurs a height field whose crossing the binary search locates anyway.
+    // kReliefShadeUnit). An anisotropic fetch in every search step costs up to 16 trilinear probes each (on
+    // llvmpipe, which does them in software, an order of magnitude per frame: docs/renderer.md), and on a
+    // GPU it only blurs a height field whose crossing the binary search locates anyway.
     GLuint searchSampler = 0;
     // The per-draw uniform block (shared/relief_uniforms.h), rewritten before every draw.
     GLuint uniformBuffer = 0;

@@ -1,6 +1,5 @@
 #include "strata/scene/scene.h"
 
-#include "strata/scene/material.h"
 #include "strata/core/error.h"
 #include "strata/core/file.h"
 #include "strata/mesh/builtin_meshes.h"
@@ -9,6 +8,7 @@
 #include "strata/relief/dual_depth.h"
 #include "strata/relief/patterns.h"
 #include "strata/relief/texture_set.h"
+#include "strata/scene/material.h"
 
 #include "core/json_reader.h"
 

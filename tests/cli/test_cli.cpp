@@ -1,11 +1,11 @@
 // The `strata` CLI end to end: documented exit codes, outputs, and nothing written on failure.
 #include "test_support.h"
 
-#include "strata/scene/material.h"
 #include "strata/image/image_io.h"
 #include "strata/occlusion/ambient_occlusion.h"
 #include "strata/relief/patterns.h"
 #include "strata/relief/texture_set.h"
+#include "strata/scene/material.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -1,11 +1,11 @@
 // The material file: strict parsing with errors that name the key, and loading layers.
 #include "test_support.h"
 
-#include "strata/scene/material.h"
 #include "strata/core/error.h"
 #include "strata/image/image_io.h"
 #include "strata/relief/patterns.h"
 #include "strata/relief/texture_set.h"
+#include "strata/scene/material.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -28,10 +28,10 @@
 // §7). Relative paths are relative to the scene file.
 #pragma once
 
-#include "strata/scene/material.h"
 #include "strata/mesh/mesh.h"
 #include "strata/relief/relief_texture.h"
 #include "strata/scene/camera.h"
+#include "strata/scene/material.h"
 #include "strata/scene/render_settings.h"
 
 #include <nlohmann/json_fwd.hpp>

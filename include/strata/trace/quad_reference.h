@@ -29,7 +29,8 @@
 // atan(S / 64) of grazing) is reported as not hit.
 //
 // Converting to the 16-bit PNG encoding of §7 (round(value * 65535)) is the caller's job (the CLI).
-// Thread safety: pure functions of their arguments; renderQuadReference runs its rows in parallel (strata/core/parallel.h).
+// Thread safety: pure functions of their arguments; renderQuadReference runs its rows in parallel
+// (strata/core/parallel.h).
 #pragma once
 
 #include "strata/image/image.h"
