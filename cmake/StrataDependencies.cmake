@@ -11,6 +11,12 @@ find_package(TBB REQUIRED)                      # libtbb-dev
 find_package(Threads REQUIRED)
 find_package(tinyobjloader REQUIRED)           # libtinyobjloader-dev: OBJ meshes
 find_package(TinyGLTF REQUIRED)                 # libtinygltf-dev: glTF 2.0 meshes (a shared library on Debian)
+# The gdm module (generalized displacement maps): Embree 3 (libembree-dev) casts the bake's and the exact
+# reference's rays against triangle meshes; OpenVDB (libopenvdb-dev) reads level sets and meshes them. Its
+# Find module ships with the package and needs Boost.Iostreams (libboost-iostreams-dev).
+find_package(embree 3 REQUIRED)
+list(APPEND CMAKE_MODULE_PATH /usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/OpenVDB)
+find_package(OpenVDB REQUIRED)
 # The gl layer: OpenGL 4.5 core through libepoxy (libepoxy-dev), headless through EGL (libegl-dev,
 # libegl-mesa0, libgl1-mesa-dri: Mesa, llvmpipe without a GPU). libepoxy resolves both GL and EGL.
 pkg_check_modules(EPOXY REQUIRED IMPORTED_TARGET epoxy)
