@@ -25,6 +25,7 @@ void addRenderCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addDualDepthCommand(CLI::App& app);
 void addConeMapCommand(CLI::App& app);
+void addMesoCommand(CLI::App& app);
 
 // A progress line on stderr, only when stderr is a terminal (pipes and CI logs stay clean).
 void progress(const std::string& message);

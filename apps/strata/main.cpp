@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
     strata::cli::addCompareCommand(app);
     strata::cli::addDualDepthCommand(app);
     strata::cli::addConeMapCommand(app);
+    strata::cli::addMesoCommand(app);
 
     try {
         app.parse(argc, argv);

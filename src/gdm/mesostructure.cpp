@@ -257,15 +257,15 @@ std::vector<MesostructurePart> makeScales(std::uint32_t seed) {
 // profile distance divided by it is a 1-Lipschitz bound. The cracks are subtracted with max(d, -crack).
 constexpr double kBarkHeight = 0.25;
 constexpr double kInnerBark = 0.03;  // the base layer's thickness
-constexpr double kStemHalfWidth = 0.045;
+constexpr double kStemHalfWidth = 0.035;
 constexpr double kCapBottom = 0.1;  // the undercut: from the base to here, only the stem
 constexpr double kCapTop = 0.19;    // mean top, +- kCapTopWave: at most 0.205 < H (1 - 1.5 / 16) = 0.2266
 constexpr double kCapTopWave = 0.015;
-constexpr double kCapHalfWidth = 0.125;  // +- kCapWidthWave
+constexpr double kCapHalfWidth = 0.115;  // +- kCapWidthWave
 constexpr double kCapWidthWave = 0.02;
 constexpr double kMeander1 = 0.03;   // u amplitude of the meander's first harmonic
 constexpr double kMeander2 = 0.015;  // and of its second
-constexpr double kCrackHalfWidth = 0.01;
+constexpr double kCrackHalfWidth = 0.018;
 
 std::vector<MesostructurePart> makeBark(std::uint32_t seed) {
     std::vector<MesostructurePart> parts;
@@ -315,7 +315,7 @@ std::vector<MesostructurePart> makeBark(std::uint32_t seed) {
             const double x = wrapCentred(p.x - centreU(p.y));
             const double fibre = 0.9 + 0.1 * std::sin(kTwoPi * 60.0 * x);
             const double weathered = std::clamp((p.z - kCapBottom) / (kCapTop - kCapBottom), 0.0, 1.0);
-            return mix(dvec3(0.28, 0.20, 0.13), dvec3(0.55, 0.50, 0.44), weathered) * fibre;
+            return mix(dvec3(0.30, 0.21, 0.13), dvec3(0.66, 0.60, 0.52), weathered) * fibre;
         };
         parts.push_back(std::move(part));
     }

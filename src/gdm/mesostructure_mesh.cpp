@@ -76,8 +76,10 @@ SolidMesh meshMesostructure(const Mesostructure& meso, int resolution) {
 
     SolidMesh mesh = detail::meshLevelSet(*grid);
     if (mesh.triangles.empty())
-        throw Error(ErrorKind::Runtime, "mesostructure " + meso.name() + ": the mesh at resolution " +
-                                            std::to_string(resolution) + " is empty");
+        throw Error(ErrorKind::Runtime,
+                    "mesostructure " + meso.name() + ": the mesh at resolution " +
+                        std::to_string(resolution) +
+                        " is empty (every part thinner than a voxel? use a higher resolution)");
     // volumeToMesh puts one vertex in each cell the surface crosses, at the mean of its edge crossings, so
     // where the solid meets a tile side the rim of the cut face is chamfered towards the inside: a groove
     // along the seam. A vertex within half a voxel of a tile side (in the cells that straddle it) is moved

@@ -20,7 +20,7 @@ inline constexpr int kMaxMeshResolution = 1024;
 // is negative inside; they are reversed). Positions are clamped into the box (the extraction can overshoot
 // its faces by float rounding). source = meso.name(), height = meso.height().
 // Throws Error(InvalidInput) for a resolution outside [kMinMeshResolution, kMaxMeshResolution] and
-// Error(Runtime) if the mesh comes out empty.
+// Error(Runtime) if the mesh comes out empty (every part thinner than a voxel).
 SolidMesh meshMesostructure(const Mesostructure& meso, int resolution = 64);
 
 }  // namespace strata
