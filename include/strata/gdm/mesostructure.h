@@ -20,6 +20,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
