@@ -83,7 +83,8 @@ SolidMesh meshMesostructure(const Mesostructure& meso, int resolution) {
     // volumeToMesh puts one vertex in each cell the surface crosses, at the mean of its edge crossings, so
     // where the solid meets a tile side the rim of the cut face is chamfered towards the inside: a groove
     // along the seam. A vertex within half a voxel of a tile side (in the cells that straddle it) is moved
-    // onto it, which puts the rims back on the sides.
+    // onto it: the rims then lie on the sides (opposite sides get the same cut face, the samples being
+    // periodic), though still about 0.3 voxel inside the true section in the side's plane.
     const float snap = static_cast<float>(0.5 * dx);
     for (glm::vec3& p : mesh.positions) {
         p = glm::clamp(p, glm::vec3(0.0f), glm::vec3(1.0f, 1.0f, static_cast<float>(h)));

@@ -1,4 +1,5 @@
-// Procedural mesostructures: solids that repeat in u and v, defined by a distance bound in the tile's
+// Procedural mesostructures (Wang et al. 2004, "Generalized Displacement Maps", Sec. 3.1; the built-ins after
+// its Fig. 9 and 10): solids that repeat in u and v, defined by a distance bound in the tile's
 // isotropic frame (u, v, z), z = w H (CONVENTIONS §8). One definition serves the voxelisation, the meshing
 // (mesostructure_mesh.h), the preview and exact tracing (sphere tracing on the bound).
 //

@@ -16,6 +16,8 @@ inline constexpr int kMaxMeshResolution = 1024;
 // isosurface is extracted with openvdb::tools::volumeToMesh (adaptivity 0), each quad split into two
 // triangles. Geometry that crosses a tile side is cut there, so each tile's mesh is closed, and the union of
 // its integer translates (u, v) reproduces the periodic solid (the cut faces of neighbouring tiles coincide).
+// Vertices within half a voxel of a tile side are moved onto it (the extraction chamfers the cut faces'
+// rims); the rims still lie about 0.3 voxel inside the true section (docs/gdm.md).
 // Triangles are counter-clockwise seen from outside (OpenVDB's quads face the other way for a level set that
 // is negative inside; they are reversed). Positions are clamped into the box (the extraction can overshoot
 // its faces by float rounding). source = meso.name(), height = meso.height().
