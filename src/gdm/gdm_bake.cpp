@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -28,8 +27,6 @@ constexpr double kReach = 0.5;
 // column's side (kSegmentOverlap) and still see every face there.
 constexpr double kCullMargin = 1e-3;
 constexpr double kSegmentOverlap = 1e-5;
-// Distance rays are traced in streams of about this many (Embree packs coherent ones into packets).
-constexpr std::size_t kStreamSize = 1024;
 
 // The inside test's rays: near vertical (they leave the mesh's z range after a short run), tilted by
 // irrational-looking amounts so that the voxel grid's regular positions do not line them up with edges,
@@ -289,14 +286,109 @@ bool insideSolid(const PeriodicScene& scene, const glm::dvec3& point) {
     return 2 * votes > int(kInsideRays.size());
 }
 
-// One distance ray in flight: where its value goes, how far it has come, and its current segment.
-struct Flight {
-    std::size_t valueIndex;
-    int direction;
-    double travelled;
-    glm::dvec3 origin;
-    double tColumn;  // where the segment leaves the column; +inf if it ends at the slab or the travel cap
+// Beyond the mesh's z range, heading away from it: the ray can meet nothing more.
+bool leavesMesh(const PeriodicScene& scene, const glm::dvec3& origin, const glm::dvec3& direction) {
+    return (direction.z >= 0.0 && origin.z > double(scene.zMax)) ||
+           (direction.z <= 0.0 && origin.z < double(scene.zMin));
+}
+
+// One segment of a distance ray: from `origin` until it leaves the slab, the column (see kReach) or has run
+// the rest of kGdmBakeMaxTravel. `tColumn` is where it leaves the column, or < 0 where the segment is the
+// ray's last.
+struct Segment {
+    float tFar;
+    double tColumn;
 };
+
+Segment segment(const glm::dvec3& origin, const glm::dvec3& direction, double height, double travelled) {
+    const double tLast = std::min(slabExit(origin, direction, 0.0, height), kGdmBakeMaxTravel - travelled);
+    const double tColumn = columnExit(origin, direction);
+    if (tLast <= tColumn) return {float(tLast), -1.0};
+    return {float(tColumn + kSegmentOverlap), tColumn};
+}
+
+// The distance of §8 from `origin` (u, v in [0, 1)) along unit `direction`, the ray having come
+// `travelled` already: traced segment by segment, moved back by whole tiles each time it leaves the column,
+// until it meets a face (the distance), leaves the slab or the mesh's z range for good, or has run
+// kGdmBakeMaxTravel (kGdmMiss).
+float distanceAlong(const PeriodicScene& scene, RTCIntersectContext& context, glm::dvec3 origin,
+                    const glm::dvec3& direction, double height, double travelled) {
+    const glm::vec3 directionF(direction);
+    for (;;) {
+        if (leavesMesh(scene, origin, direction)) return kGdmMiss;
+        const Segment next = segment(origin, direction, height, travelled);
+        RTCRayHit rayHit;
+        setRay(rayHit, origin, directionF, next.tFar);
+        rtcIntersect1(scene.scene.get(), &context, &rayHit);
+        if (rayHit.hit.geomID != RTC_INVALID_GEOMETRY_ID) return float(travelled + double(rayHit.ray.tfar));
+        if (next.tColumn < 0.0) return kGdmMiss;
+        origin = wrapped(origin, direction, next.tColumn);
+        travelled += next.tColumn;
+    }
+}
+
+// The direction samples in packets of 16 neighbours: blocks of 4 x 4 (theta, phi) samples, padded with -1
+// where a block runs past the grid.
+constexpr int kPacketWidth = 16;
+constexpr int kPacketThetas = 4;
+
+std::vector<int> packetOrder(const GdmDims& dims) {
+    constexpr int phis = kPacketWidth / kPacketThetas;
+    std::vector<int> order;
+    for (int t0 = 0; t0 < dims.ntheta; t0 += kPacketThetas)
+        for (int s0 = 0; s0 < dims.nphi; s0 += phis)
+            for (int lane = 0; lane < kPacketWidth; ++lane) {
+                const int t = t0 + lane / phis;
+                const int s = s0 + lane % phis;
+                order.push_back(t < dims.ntheta && s < dims.nphi ? t * dims.nphi + s : -1);
+            }
+    return order;
+}
+
+// The distances from `origin` along the 16 directions directions[lanes[n]] (lanes[n] < 0: none) into
+// values[lanes[n]]. Rays from one point in neighbouring directions visit mostly the same nodes: their first
+// segments go to Embree as one packet, and the few that go on past the column continue one by one.
+void tracePacket(const PeriodicScene& scene, RTCIntersectContext& context, const glm::dvec3& origin,
+                 const int* lanes, const std::vector<glm::dvec3>& directions, double height, float* values) {
+    alignas(64) RTCRayHit16 packet;
+    alignas(64) int valid[kPacketWidth];
+    double tColumn[kPacketWidth];
+    for (int n = 0; n < kPacketWidth; ++n) {
+        valid[n] = 0;
+        if (lanes[n] < 0) continue;
+        const glm::dvec3& direction = directions[std::size_t(lanes[n])];
+        values[lanes[n]] = kGdmMiss;
+        if (leavesMesh(scene, origin, direction)) continue;
+        const Segment first = segment(origin, direction, height, 0.0);
+        valid[n] = -1;
+        tColumn[n] = first.tColumn;
+        packet.ray.org_x[n] = float(origin.x);
+        packet.ray.org_y[n] = float(origin.y);
+        packet.ray.org_z[n] = float(origin.z);
+        packet.ray.tnear[n] = 0.0f;
+        packet.ray.dir_x[n] = float(direction.x);
+        packet.ray.dir_y[n] = float(direction.y);
+        packet.ray.dir_z[n] = float(direction.z);
+        packet.ray.time[n] = 0.0f;
+        packet.ray.tfar[n] = first.tFar;
+        packet.ray.mask[n] = ~0u;
+        packet.ray.id[n] = 0;
+        packet.ray.flags[n] = 0;
+        packet.hit.geomID[n] = RTC_INVALID_GEOMETRY_ID;
+        packet.hit.instID[0][n] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, scene.scene.get(), &context, &packet);
+    for (int n = 0; n < kPacketWidth; ++n) {
+        if (valid[n] == 0) continue;
+        if (packet.hit.geomID[n] != RTC_INVALID_GEOMETRY_ID)
+            values[lanes[n]] = packet.ray.tfar[n];
+        else if (tColumn[n] >= 0.0) {
+            const glm::dvec3& direction = directions[std::size_t(lanes[n])];
+            values[lanes[n]] = distanceAlong(scene, context, wrapped(origin, direction, tColumn[n]),
+                                             direction, height, tColumn[n]);
+        }
+    }
+}
 
 }  // namespace
 
@@ -309,7 +401,6 @@ Gdm bakeGdm(const SolidMesh& solid, const GdmDims& dims, const GdmBakeProgress& 
     gdm.dims = dims;
     gdm.height = solid.height;
     gdm.values.assign(dims.valueCount(), kGdmMiss);
-    const std::int64_t rowCount = std::int64_t(dims.ny) * dims.nz;
     if (solid.triangles.empty()) {
         if (progress) progress(1.0);
         return gdm;
@@ -323,79 +414,27 @@ Gdm bakeGdm(const SolidMesh& solid, const GdmDims& dims, const GdmBakeProgress& 
     for (int t = 0; t < dims.ntheta; ++t)
         for (int s = 0; s < dims.nphi; ++s)
             directions[std::size_t(t * dims.nphi + s)] = gdmDirection(dims, t, s);
+    const std::vector<int> order = packetOrder(dims);
 
+    const std::int64_t rowCount = std::int64_t(dims.ny) * dims.nz;
     std::mutex progressMutex;
     std::int64_t rowsDone = 0;
     parallelFor(std::int64_t(0), rowCount, [&](std::int64_t row) {
         const int j = int(row % dims.ny);
         const int k = int(row / dims.ny);
-        // Inside voxels are 0 in every direction and cast nothing more.
-        std::vector<int> outside;
-        for (int i = 0; i < dims.nx; ++i) {
-            const glm::dvec3 centre = gdmVoxelCentre(dims, height, i, j, k);
-            if (insideSolid(scene, centre))
-                std::fill_n(gdm.values.begin() + std::ptrdiff_t(gdm.valueIndex(i, j, k, 0, 0)),
-                            directionCount, 0.0f);
-            else
-                outside.push_back(i);
-        }
-
-        // Rays go out in streams ordered direction by direction, voxel by voxel along the row: neighbours
-        // in a stream are parallel rays a voxel apart, which Embree traces together as packets.
-        std::vector<Flight> flights;
-        std::vector<RTCRayHit> rayHits;
-        const auto launch = [&](Flight flight) {
-            const glm::dvec3& direction = directions[std::size_t(flight.direction)];
-            const double tSlab = slabExit(flight.origin, direction, 0.0, height);
-            const double tColumn = columnExit(flight.origin, direction);
-            const double tCap = kGdmBakeMaxTravel - flight.travelled;
-            double tEnd = std::min(tSlab, tCap);
-            flight.tColumn = std::numeric_limits<double>::infinity();
-            if (tColumn < tEnd) {
-                flight.tColumn = tColumn;
-                tEnd = tColumn + kSegmentOverlap;
-            }
-            RTCRayHit rayHit;
-            setRay(rayHit, flight.origin, glm::vec3(direction), tEnd);
-            flights.push_back(flight);
-            rayHits.push_back(rayHit);
-        };
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        const int directionsPerStream =
-            outside.empty() ? directionCount : std::max(1, int(kStreamSize / outside.size()));
-        for (int first = 0; first < directionCount && !outside.empty(); first += directionsPerStream) {
-            const int last = std::min(directionCount, first + directionsPerStream);
-            flights.clear();
-            rayHits.clear();
-            for (int d = first; d < last; ++d)
-                for (const int i : outside)
-                    launch({gdm.valueIndex(i, j, k, 0, 0) + std::size_t(d), d, 0.0,
-                            gdmVoxelCentre(dims, height, i, j, k), 0.0});
-            while (!rayHits.empty()) {
-                rtcIntersect1M(scene.scene.get(), &context, rayHits.data(), unsigned(rayHits.size()),
-                               sizeof(RTCRayHit));
-                // Hits are final; rays that left the column without one go on from a tile back.
-                std::vector<Flight> going;
-                for (std::size_t r = 0; r < rayHits.size(); ++r) {
-                    const Flight& flight = flights[r];
-                    if (rayHits[r].hit.geomID != RTC_INVALID_GEOMETRY_ID)
-                        gdm.values[flight.valueIndex] = float(flight.travelled + double(rayHits[r].ray.tfar));
-                    else if (std::isfinite(flight.tColumn))
-                        going.push_back(flight);
-                }
-                flights.clear();
-                rayHits.clear();
-                for (Flight flight : going) {
-                    const glm::dvec3& direction = directions[std::size_t(flight.direction)];
-                    flight.travelled += flight.tColumn;
-                    flight.origin = wrapped(flight.origin, direction, flight.tColumn);
-                    launch(flight);
-                }
+        for (int i = 0; i < dims.nx; ++i) {
+            const glm::dvec3 centre = gdmVoxelCentre(dims, height, i, j, k);
+            float* values = gdm.values.data() + gdm.valueIndex(i, j, k, 0, 0);
+            // Inside: 0 in every direction, and no ray cast.
+            if (insideSolid(scene, centre)) {
+                std::fill_n(values, directionCount, 0.0f);
+                continue;
             }
+            for (std::size_t first = 0; first < order.size(); first += kPacketWidth)
+                tracePacket(scene, context, centre, order.data() + first, directions, height, values);
         }
-
         if (progress) {
             const std::lock_guard lock(progressMutex);
             ++rowsDone;
