@@ -353,6 +353,7 @@ void tracePacket(const PeriodicScene& scene, RTCIntersectContext& context, const
     alignas(64) RTCRayHit16 packet;
     alignas(64) int valid[kPacketWidth];
     double tColumn[kPacketWidth];
+    bool any = false;
     for (int n = 0; n < kPacketWidth; ++n) {
         valid[n] = 0;
         if (lanes[n] < 0) continue;
@@ -361,6 +362,7 @@ void tracePacket(const PeriodicScene& scene, RTCIntersectContext& context, const
         if (leavesMesh(scene, origin, direction)) continue;
         const Segment first = segment(origin, direction, height, 0.0);
         valid[n] = -1;
+        any = true;
         tColumn[n] = first.tColumn;
         packet.ray.org_x[n] = float(origin.x);
         packet.ray.org_y[n] = float(origin.y);
@@ -377,6 +379,7 @@ void tracePacket(const PeriodicScene& scene, RTCIntersectContext& context, const
         packet.hit.geomID[n] = RTC_INVALID_GEOMETRY_ID;
         packet.hit.instID[0][n] = RTC_INVALID_GEOMETRY_ID;
     }
+    if (!any) return;
     rtcIntersect16(valid, scene.scene.get(), &context, &packet);
     for (int n = 0; n < kPacketWidth; ++n) {
         if (valid[n] == 0) continue;
