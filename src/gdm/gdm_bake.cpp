@@ -255,6 +255,7 @@ void countCrossing(const RTCFilterFunctionNArguments* args) {
 // range.
 int windingAlong(const PeriodicScene& scene, glm::dvec3 origin, const glm::dvec3& direction) {
     const glm::vec3 directionF(direction);
+    // Run a little past the mesh's z range, so that a face lying in its top or bottom plane is crossed.
     const double zLo = double(scene.zMin) - 1e-3;
     const double zHi = double(scene.zMax) + 1e-3;
     int total = 0;
