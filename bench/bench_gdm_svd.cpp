@@ -7,8 +7,10 @@
 // layout. Wall time, the GDM built once outside the loop.
 // `error`: docs/gdm.md's table, one compression and measureGdmSvd per (layout, rank) on a 32 x 32 x 16 x
 // 16 x 32 GDM (the (x, y) x (z, theta, phi) layout's Gram matrix is 4096 x 4096 at 64 x 64: too slow to
-// diagonalise densely), 2^20 segment queries; its counters are the table (times are not meaningful):
-// Run: build/ci/bench/bench_gdm_svd --benchmark_filter=error --benchmark_counters_tabular=true
+// diagonalise densely), 2^20 segment queries; its counters are the table (times are not meaningful).
+// `exitTolerance`: the exit rule's errors against its tolerance (0.5 to 8 voxels), rank 8, paper's layout.
+// Run: build/ci/bench/bench_gdm_svd --benchmark_filter=compress --benchmark_repetitions=9
+//      build/ci/bench/bench_gdm_svd --benchmark_filter='error|exitTolerance' --benchmark_counters_tabular=true
 #include "strata/gdm/gdm_analytic.h"
 #include "strata/gdm/gdm_svd.h"
 
@@ -52,11 +54,37 @@ void error(benchmark::State& state) {
     state.counters["MiB"] = error.memoryMiB;
 }
 
+// The exit rule's tolerance against its errors: rank 8 in the paper's layout on the table's GDM, the
+// tolerance in voxels (H / Nz) along the ray.
+void exitTolerance(benchmark::State& state) {
+    const double voxels = double(state.range(0)) / 2.0;
+    const strata::Gdm& gdm = tableGdm();
+    strata::GdmSvd svd = strata::compressGdm(gdm, 8, strata::GdmLayout::XyPhiByThetaZ);
+    svd.exitTolerance = voxels * gdm.height / gdm.dims.nz;
+    strata::GdmSvdError error;
+    for (auto _ : state) error = strata::measureGdmSvd(gdm, svd);
+    state.counters["tol_vox"] = voxels;
+    state.counters["exit_fh%"] = error.exitFalseHitPercent;
+    state.counters["exit_fm%"] = error.exitFalseMissPercent;
+    state.counters["seg_fh%"] = error.segmentFalseHitPercent;
+    state.counters["seg_fm%"] = error.segmentFalseMissPercent;
+}
+
 }  // namespace
 
 BENCHMARK(compress)->DenseRange(0, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(error)
     ->ArgsProduct({{0, 1, 2}, {2, 4, 8, 16, 32}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+BENCHMARK(exitTolerance)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Arg(16)
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
