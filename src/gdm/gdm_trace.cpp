@@ -1,0 +1,343 @@
+#include "strata/gdm/gdm_trace.h"
+
+#include "strata/core/error.h"
+#include "strata/core/parallel.h"
+
+#include "periodic_scene.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace strata {
+namespace {
+
+using namespace detail;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// The shadow ray starts this far off the surface (tile widths), so that it does not meet the face it
+// leaves; far below a voxel (1 / 64) and far above float rounding at unit scale.
+constexpr double kShadowOffset = 1e-5;
+// The inside test at the box entry point is made this far inside the box, off the face's plane.
+constexpr double kEntryNudge = 1e-7;
+
+// The ray's passage through the box [0, 1]^2 x [0, H]: entry and exit distances, and the outward normal of
+// the face it enters through (zero when it does not enter, or enters through the bottom).
+struct BoxPassage {
+    double tIn = 0.0;
+    double tOut = 0.0;
+    glm::dvec3 faceNormal{0.0};
+    bool seen = false;  // enters through the top or a side, in front of the eye
+};
+
+BoxPassage passBox(const glm::dvec3& eye, const glm::dvec3& direction, double height) {
+    BoxPassage result;
+    const double lo[3] = {0.0, 0.0, 0.0};
+    const double hi[3] = {1.0, 1.0, height};
+    double tIn = -kInf;
+    double tOut = kInf;
+    int inAxis = -1;
+    double inSign = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+        const double o = eye[axis];
+        const double d = direction[axis];
+        if (d == 0.0) {
+            if (o < lo[axis] || o > hi[axis]) return result;
+            continue;
+        }
+        double t0 = (lo[axis] - o) / d;
+        double t1 = (hi[axis] - o) / d;
+        double sign = -1.0;  // entering through the low face: outward normal -axis
+        if (t0 > t1) {
+            std::swap(t0, t1);
+            sign = 1.0;
+        }
+        if (t0 > tIn) {
+            tIn = t0;
+            inAxis = axis;
+            inSign = sign;
+        }
+        tOut = std::min(tOut, t1);
+    }
+    // The eye must be outside the box, the box in front of it, and the entry not through the bottom.
+    if (inAxis < 0 || tIn > tOut || tIn < 0.0 || (inAxis == 2 && inSign < 0.0)) return result;
+    result.tIn = tIn;
+    result.tOut = tOut;
+    result.faceNormal[inAxis] = inSign;
+    result.seen = true;
+    return result;
+}
+
+double fractional(double x) {
+    const double f = x - std::floor(x);
+    return f;
+}
+
+// One hit written to the images (uvw convention of gdm_trace.h).
+void writeHit(GdmSceneImages& images, int i, int j, const glm::dvec3& point, double height, bool lit) {
+    const auto unitFloat = [](double x) {
+        const float f = float(fractional(x));
+        return f >= 1.0f ? std::nextafter(1.0f, 0.0f) : f;
+    };
+    images.uvw.at(i, j, 0) = unitFloat(point.x);
+    images.uvw.at(i, j, 1) = unitFloat(point.y);
+    images.uvw.at(i, j, 2) = float(std::clamp(point.z / height, 0.0, 1.0));
+    images.uvw.at(i, j, 3) = 1.0f;
+    images.mask.at(i, j) = 1.0f;
+    images.shadow.at(i, j) = lit ? 1.0f : 0.0f;
+}
+
+GdmSceneImages blankImages(int width, int height) {
+    return {Image(width, height, 4), Image(width, height, 1), Image(width, height, 1)};
+}
+
+void checkPicture(int width, int height) {
+    if (width < 1 || height < 1 || width > Image::kMaxDimension || height > Image::kMaxDimension)
+        throw Error(ErrorKind::InvalidInput, "GDM scene: picture size " + std::to_string(width) + " x " +
+                                                 std::to_string(height) + " is outside [1, " +
+                                                 std::to_string(Image::kMaxDimension) + "]");
+}
+
+// The emulation's shadow lookup (gdm_trace.h): backed off this many voxels (H / Nz) towards the eye, and
+// ignoring the corners whose value is below this many voxels (inside the solid or touching it). Chosen on
+// the sphere of test_gdm_trace.cpp (all of it lit): without either, 99% of its lit pixels read as
+// shadowed at 32 x 32 x 8 voxels; with both, 2%.
+constexpr double kShadowBackoffVoxels = 1.0;
+constexpr double kShadowDropVoxels = 0.5;
+
+// --- The emulation's GDM lookup -------------------------------------------------------------------------
+
+// d(T, V) of gdm_trace.h: trilinear over the voxels, nearest direction, on substituted values.
+struct Lookup {
+    double distance = kInf;  // kInf on an exit
+    bool exit = true;
+};
+
+template <class Value>
+Lookup lookupGdm(const GdmDims& dims, double height, double tolerance, const Value& value,
+                 const glm::dvec3& point, const glm::dvec3& direction, double dropBelow = -1.0) {
+    // dropBelow: corners with a value below it are left out (the weights of the others renormalised: the
+    // sums d and b below share them, so only their ratio matters); none left is a hit at distance 0.
+    const double theta = std::acos(std::clamp(direction.z, -1.0, 1.0));
+    double phi = std::atan2(direction.y, direction.x);
+    if (phi < 0.0) phi += 2.0 * std::numbers::pi;
+    const int t = std::clamp(int(theta / std::numbers::pi * dims.ntheta), 0, dims.ntheta - 1);
+    const int s = std::clamp(int(phi / (2.0 * std::numbers::pi) * dims.nphi), 0, dims.nphi - 1);
+
+    const double fx = point.x * dims.nx - 0.5;
+    const double fy = point.y * dims.ny - 0.5;
+    const double fz = std::clamp(point.z / height * dims.nz - 0.5, 0.0, double(dims.nz - 1));
+    const double x0 = std::floor(fx), y0 = std::floor(fy), z0 = std::floor(fz);
+    const double ax = fx - x0, ay = fy - y0, az = fz - z0;
+    const auto wrap = [](long long index, int n) { return int(((index % n) + n) % n); };
+    double d = 0.0;
+    double b = 0.0;
+    double total = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        const int dx = corner & 1, dy = (corner >> 1) & 1, dz = corner >> 2;
+        const double weight = (dx ? ax : 1.0 - ax) * (dy ? ay : 1.0 - ay) * (dz ? az : 1.0 - az);
+        if (weight == 0.0) continue;
+        const int i = wrap(static_cast<long long>(x0) + dx, dims.nx);
+        const int j = wrap(static_cast<long long>(y0) + dy, dims.ny);
+        const int k = std::min(int(z0) + dz, dims.nz - 1);
+        const double sample = double(value(i, j, k, t, s));
+        if (sample < dropBelow) continue;
+        d += weight * sample;
+        b += weight * gdmBoundaryDistance(dims, height, k, t);
+        total += weight;
+    }
+    if (total == 0.0) return {0.0, false};
+    if (d >= b - tolerance) return {};
+    return {std::max(d, 0.0), false};
+}
+
+template <class Value>
+GdmSceneImages emulate(const GdmDims& dims, double shell, double tolerance, const Value& value,
+                       const Camera& camera, const glm::dvec3& light, int width, int height) {
+    validateCamera(camera);
+    checkPicture(width, height);
+    GdmSceneImages images = blankImages(width, height);
+    const double voxel = shell / dims.nz;
+    parallelFor(0, height, [&](int j) {
+        for (int i = 0; i < width; ++i) {
+            const glm::dvec3 direction = pixelRayDirection(camera, width, height, i + 0.5, j + 0.5);
+            const BoxPassage box = passBox(camera.eye, direction, shell);
+            if (!box.seen) continue;
+            // Signed distance to the diagonal plane x = y (prism A: >= 0) changes at this rate along the ray.
+            const double diagonalRate = direction.x - direction.y;
+            double tIn = box.tIn;
+            glm::dvec3 in = camera.eye + tIn * direction;
+            bool prismA = (in.x - in.y) > 0.0 || ((in.x - in.y) == 0.0 && diagonalRate >= 0.0);
+            // At most two prisms: the ray crosses the diagonal plane once.
+            for (int crossing = 0; crossing < 2; ++crossing) {
+                double tOut = box.tOut;
+                bool throughDiagonal = false;
+                if (prismA ? diagonalRate < 0.0 : diagonalRate > 0.0) {
+                    const double tDiagonal = tIn - (in.x - in.y) / diagonalRate;
+                    if (tDiagonal < tOut) {
+                        tOut = std::max(tDiagonal, tIn);
+                        throughDiagonal = true;
+                    }
+                }
+                const double dt = tOut - tIn;  // |T_out - T_in|: the direction is a unit vector
+                const Lookup hit = lookupGdm(dims, shell, tolerance, value, in, direction);
+                if (!hit.exit && hit.distance < dt) {
+                    const glm::dvec3 point = in + hit.distance * direction;
+                    const glm::dvec3 back = point - kShadowBackoffVoxels * voxel * direction;
+                    const glm::dvec3 toLight = glm::normalize(light - point);
+                    const bool lit =
+                        lookupGdm(dims, shell, tolerance, value, back, toLight, kShadowDropVoxels * voxel)
+                            .exit;
+                    writeHit(images, i, j, point, shell, lit);
+                    break;
+                }
+                if (!throughDiagonal) break;
+                tIn = tOut;
+                in = camera.eye + tIn * direction;
+                prismA = !prismA;
+            }
+        }
+    });
+    return images;
+}
+
+}  // namespace
+
+GdmSceneImages renderGdmReference(const SolidMesh& solid, const Camera& camera, glm::dvec3 light, int width,
+                                  int height) {
+    const std::string what = "GDM reference of " + solid.source;
+    validateCamera(camera);
+    checkPicture(width, height);
+    if (!(std::isfinite(solid.height) && solid.height > 0.0))
+        throw Error(ErrorKind::InvalidInput,
+                    what + ": shell height " + formatNumber(solid.height) + " is not finite and > 0");
+    checkMesh(solid, what);
+    GdmSceneImages images = blankImages(width, height);
+    if (solid.triangles.empty()) return images;
+    EmbreeErrors errors;
+    const PeriodicScene scene = buildScene(solid, what, errors);
+    const double shell = solid.height;
+    parallelFor(0, height, [&](int j) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        for (int i = 0; i < width; ++i) {
+            const glm::dvec3 direction = pixelRayDirection(camera, width, height, i + 0.5, j + 0.5);
+            const BoxPassage box = passBox(camera.eye, direction, shell);
+            if (!box.seen) continue;
+            const glm::dvec3 entry = camera.eye + box.tIn * direction;
+            glm::dvec3 point;
+            glm::dvec3 normal;
+            if (insideSolid(scene, entry - kEntryNudge * box.faceNormal)) {
+                point = entry;  // the cut face
+                normal = box.faceNormal;
+            } else {
+                // The box lies inside the scene's column: one segment, no wrapping.
+                RTCRayHit rayHit;
+                setRay(rayHit, entry, glm::vec3(direction), box.tOut - box.tIn);
+                rtcIntersect1(scene.scene.get(), &context, &rayHit);
+                if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+                point = entry + double(rayHit.ray.tfar) * direction;
+                normal = glm::normalize(glm::dvec3(scene.normals[rayHit.hit.primID]));
+            }
+            bool lit = false;
+            const glm::dvec3 toLight = light - point;
+            if (glm::dot(normal, toLight) > 0.0) {
+                glm::dvec3 origin = point + kShadowOffset * normal;
+                origin.z = std::clamp(origin.z, 0.0, shell);
+                const double reach = glm::length(light - origin);
+                const glm::dvec3 shadowDirection = (light - origin) / reach;
+                const float blocker = distanceAlong(scene, context, wrapped(origin, shadowDirection, 0.0),
+                                                    shadowDirection, shell, 0.0);
+                lit = double(blocker) >= reach;
+            }
+            writeHit(images, i, j, point, shell, lit);
+        }
+    });
+    if (rtcGetDeviceError(scene.device.get()) != RTC_ERROR_NONE || !errors.first.empty())
+        throw Error(ErrorKind::Runtime, what + ": " + errors.first);
+    return images;
+}
+
+GdmSceneImages emulateGdm(const Gdm& gdm, const Camera& camera, glm::dvec3 light, int width, int height) {
+    validateGdmDims(gdm.dims, gdm.height, "GDM emulation");
+    if (gdm.values.size() != gdm.dims.valueCount())
+        throw Error(ErrorKind::InvalidInput, "GDM emulation: " + std::to_string(gdm.values.size()) +
+                                                 " values for dims needing " +
+                                                 std::to_string(gdm.dims.valueCount()));
+    const GdmDims& dims = gdm.dims;
+    const double shell = gdm.height;
+    const auto value = [&](int i, int j, int k, int t, int s) {
+        const float d = gdm.at(i, j, k, t, s);
+        return d == kGdmMiss ? float(gdmBoundaryDistance(dims, shell, k, t)) : d;
+    };
+    return emulate(dims, shell, 1e-4 * shell / dims.nz, value, camera, light, width, height);
+}
+
+GdmSceneImages emulateGdm(const GdmSvd& svd, const Camera& camera, glm::dvec3 light, int width, int height) {
+    validateGdmDims(svd.dims, svd.height, "GDM emulation");
+    if (svd.weights.size() != svd.rows * std::size_t(svd.rank) ||
+        svd.eigen.size() != svd.cols * std::size_t(svd.rank))
+        throw Error(ErrorKind::InvalidInput,
+                    "GDM emulation: SVD maps do not match rank " + std::to_string(svd.rank));
+    const auto value = [&](int i, int j, int k, int t, int s) { return reconstruct(svd, i, j, k, t, s); };
+    return emulate(svd.dims, svd.height, svd.exitTolerance, value, camera, light, width, height);
+}
+
+GdmSceneAccuracy compareGdmScenes(const GdmSceneImages& reference, const GdmSceneImages& test,
+                                  double shellHeight, double voxelLength) {
+    if (reference.uvw.width() != test.uvw.width() || reference.uvw.height() != test.uvw.height())
+        throw Error(ErrorKind::InvalidInput, "GDM scene comparison: the pictures' sizes differ");
+    if (!(voxelLength > 0.0) || !(shellHeight > 0.0))
+        throw Error(ErrorKind::InvalidInput, "GDM scene comparison: voxel length " +
+                                                 formatNumber(voxelLength) + " and shell height " +
+                                                 formatNumber(shellHeight) + " must be > 0");
+    GdmSceneAccuracy result;
+    result.voxelLength = voxelLength;
+    const int width = reference.uvw.width();
+    const int height = reference.uvw.height();
+    std::size_t disagree = 0;
+    std::size_t shadowAgree = 0;
+    std::vector<double> errors;
+    for (int j = 0; j < height; ++j)
+        for (int i = 0; i < width; ++i) {
+            const bool hitRef = reference.mask.at(i, j) > 0.5f;
+            const bool hitTest = test.mask.at(i, j) > 0.5f;
+            if (hitRef != hitTest) ++disagree;
+            if (!(hitRef && hitTest)) continue;
+            const auto wrappedDifference = [](double a, double b) {
+                const double d = a - b;
+                return d - std::round(d);
+            };
+            const double du = wrappedDifference(reference.uvw.at(i, j, 0), test.uvw.at(i, j, 0));
+            const double dv = wrappedDifference(reference.uvw.at(i, j, 1), test.uvw.at(i, j, 1));
+            const double dz =
+                (double(reference.uvw.at(i, j, 2)) - double(test.uvw.at(i, j, 2))) * shellHeight;
+            errors.push_back(std::sqrt(du * du + dv * dv + dz * dz) / voxelLength);
+            if ((reference.shadow.at(i, j) > 0.5f) == (test.shadow.at(i, j) > 0.5f)) ++shadowAgree;
+        }
+    const double pixels = double(width) * double(height);
+    result.hitMissDisagreePercent = 100.0 * double(disagree) / pixels;
+    result.bothHitPixels = errors.size();
+    if (!errors.empty()) {
+        double sum = 0.0;
+        for (const double e : errors) sum += e;
+        result.uvwMeanVoxels = sum / double(errors.size());
+        std::sort(errors.begin(), errors.end());
+        const auto percentile = [&](double p) {
+            const auto index = std::size_t(std::ceil(p * double(errors.size()))) - 1;
+            return errors[std::min(index, errors.size() - 1)];
+        };
+        result.uvwP95Voxels = percentile(0.95);
+        result.uvwP99Voxels = percentile(0.99);
+        result.shadowAgreePercent = 100.0 * double(shadowAgree) / double(errors.size());
+    }
+    return result;
+}
+
+}  // namespace strata
