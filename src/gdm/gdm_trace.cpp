@@ -121,14 +121,39 @@ struct Lookup {
 
 template <class Value>
 Lookup lookupGdm(const GdmDims& dims, double height, double tolerance, const Value& value,
-                 const glm::dvec3& point, const glm::dvec3& direction, double dropBelow = -1.0) {
+                 GdmDirectionLookup directions, const glm::dvec3& point, const glm::dvec3& direction,
+                 double dropBelow = -1.0) {
     // dropBelow: corners with a value below it are left out (the weights of the others renormalised: the
     // sums d and b below share them, so only their ratio matters); none left is a hit at distance 0.
     const double theta = std::acos(std::clamp(direction.z, -1.0, 1.0));
     double phi = std::atan2(direction.y, direction.x);
     if (phi < 0.0) phi += 2.0 * std::numbers::pi;
-    const int t = std::clamp(int(theta / std::numbers::pi * dims.ntheta), 0, dims.ntheta - 1);
-    const int s = std::clamp(int(phi / (2.0 * std::numbers::pi) * dims.nphi), 0, dims.nphi - 1);
+    // The direction taps: one (nearest sample) or four (bilinear between sample centres, clamped in theta,
+    // wrapping in phi).
+    struct Tap {
+        int t, s;
+        double weight;
+    };
+    Tap taps[4];
+    int tapCount = 0;
+    if (directions == GdmDirectionLookup::Nearest) {
+        taps[tapCount++] = {std::clamp(int(theta / std::numbers::pi * dims.ntheta), 0, dims.ntheta - 1),
+                            std::clamp(int(phi / (2.0 * std::numbers::pi) * dims.nphi), 0, dims.nphi - 1),
+                            1.0};
+    } else {
+        const double ft =
+            std::clamp(theta / std::numbers::pi * dims.ntheta - 0.5, 0.0, double(dims.ntheta - 1));
+        const double fs = phi / (2.0 * std::numbers::pi) * dims.nphi - 0.5;
+        const double t0 = std::floor(ft), s0 = std::floor(fs);
+        const double at = ft - t0, as = fs - s0;
+        for (int corner = 0; corner < 4; ++corner) {
+            const int dt = corner & 1, ds = corner >> 1;
+            const double weight = (dt ? at : 1.0 - at) * (ds ? as : 1.0 - as);
+            if (weight == 0.0) continue;
+            const int s = ((int(s0) + ds) % dims.nphi + dims.nphi) % dims.nphi;
+            taps[tapCount++] = {std::min(int(t0) + dt, dims.ntheta - 1), s, weight};
+        }
+    }
 
     const double fx = point.x * dims.nx - 0.5;
     const double fy = point.y * dims.ny - 0.5;
@@ -146,11 +171,14 @@ Lookup lookupGdm(const GdmDims& dims, double height, double tolerance, const Val
         const int i = wrap(static_cast<long long>(x0) + dx, dims.nx);
         const int j = wrap(static_cast<long long>(y0) + dy, dims.ny);
         const int k = std::min(int(z0) + dz, dims.nz - 1);
-        const double sample = double(value(i, j, k, t, s));
-        if (sample < dropBelow) continue;
-        d += weight * sample;
-        b += weight * gdmBoundaryDistance(dims, height, k, t);
-        total += weight;
+        for (int tap = 0; tap < tapCount; ++tap) {
+            const double sample = double(value(i, j, k, taps[tap].t, taps[tap].s));
+            if (sample < dropBelow) continue;
+            const double w = weight * taps[tap].weight;
+            d += w * sample;
+            b += w * gdmBoundaryDistance(dims, height, k, taps[tap].t);
+            total += w;
+        }
     }
     if (total == 0.0) return {0.0, false};
     if (d >= b - tolerance) return {};
@@ -159,7 +187,8 @@ Lookup lookupGdm(const GdmDims& dims, double height, double tolerance, const Val
 
 template <class Value>
 GdmSceneImages emulate(const GdmDims& dims, double shell, double tolerance, const Value& value,
-                       const Camera& camera, const glm::dvec3& light, int width, int height) {
+                       const Camera& camera, const glm::dvec3& light, int width, int height,
+                       GdmDirectionLookup directions) {
     validateCamera(camera);
     checkPicture(width, height);
     GdmSceneImages images = blankImages(width, height);
@@ -186,14 +215,14 @@ GdmSceneImages emulate(const GdmDims& dims, double shell, double tolerance, cons
                     }
                 }
                 const double dt = tOut - tIn;  // |T_out - T_in|: the direction is a unit vector
-                const Lookup hit = lookupGdm(dims, shell, tolerance, value, in, direction);
+                const Lookup hit = lookupGdm(dims, shell, tolerance, value, directions, in, direction);
                 if (!hit.exit && hit.distance < dt) {
                     const glm::dvec3 point = in + hit.distance * direction;
                     const glm::dvec3 back = point - kShadowBackoffVoxels * voxel * direction;
                     const glm::dvec3 toLight = glm::normalize(light - point);
-                    const bool lit =
-                        lookupGdm(dims, shell, tolerance, value, back, toLight, kShadowDropVoxels * voxel)
-                            .exit;
+                    const bool lit = lookupGdm(dims, shell, tolerance, value, directions, back, toLight,
+                                               kShadowDropVoxels * voxel)
+                                         .exit;
                     writeHit(images, i, j, point, shell, lit);
                     break;
                 }
@@ -264,7 +293,8 @@ GdmSceneImages renderGdmReference(const SolidMesh& solid, const Camera& camera, 
     return images;
 }
 
-GdmSceneImages emulateGdm(const Gdm& gdm, const Camera& camera, glm::dvec3 light, int width, int height) {
+GdmSceneImages emulateGdm(const Gdm& gdm, const Camera& camera, glm::dvec3 light, int width, int height,
+                          GdmDirectionLookup directions) {
     validateGdmDims(gdm.dims, gdm.height, "GDM emulation");
     if (gdm.values.size() != gdm.dims.valueCount())
         throw Error(ErrorKind::InvalidInput, "GDM emulation: " + std::to_string(gdm.values.size()) +
@@ -276,17 +306,18 @@ GdmSceneImages emulateGdm(const Gdm& gdm, const Camera& camera, glm::dvec3 light
         const float d = gdm.at(i, j, k, t, s);
         return d == kGdmMiss ? float(gdmBoundaryDistance(dims, shell, k, t)) : d;
     };
-    return emulate(dims, shell, 1e-4 * shell / dims.nz, value, camera, light, width, height);
+    return emulate(dims, shell, 1e-4 * shell / dims.nz, value, camera, light, width, height, directions);
 }
 
-GdmSceneImages emulateGdm(const GdmSvd& svd, const Camera& camera, glm::dvec3 light, int width, int height) {
+GdmSceneImages emulateGdm(const GdmSvd& svd, const Camera& camera, glm::dvec3 light, int width, int height,
+                          GdmDirectionLookup directions) {
     validateGdmDims(svd.dims, svd.height, "GDM emulation");
     if (svd.weights.size() != svd.rows * std::size_t(svd.rank) ||
         svd.eigen.size() != svd.cols * std::size_t(svd.rank))
         throw Error(ErrorKind::InvalidInput,
                     "GDM emulation: SVD maps do not match rank " + std::to_string(svd.rank));
     const auto value = [&](int i, int j, int k, int t, int s) { return reconstruct(svd, i, j, k, t, s); };
-    return emulate(svd.dims, svd.height, svd.exitTolerance, value, camera, light, width, height);
+    return emulate(svd.dims, svd.height, svd.exitTolerance, value, camera, light, width, height, directions);
 }
 
 GdmSceneAccuracy compareGdmScenes(const GdmSceneImages& reference, const GdmSceneImages& test,
