@@ -121,6 +121,7 @@ void runGdmBake(const GdmBakeOptions& options) {
     SolidMesh solid;
     std::string source;
     std::vector<fs::path> inputs;
+    std::vector<std::uint8_t> albedo;
     if (!options.meso.empty()) {
         MesostructureParams params;
         params.height = options.height.value_or(0.0);
@@ -131,6 +132,7 @@ void runGdmBake(const GdmBakeOptions& options) {
         progress("meshing " + options.meso + " at " + std::to_string(resolution) + " voxels per tile");
         solid = meshMesostructure(meso, resolution);
         source = "meso " + options.meso;
+        albedo = mesostructureAlbedo(meso, dims);
     } else {
         validateGdmDims(dims, *options.height, "gdm bake");
         const fs::path& file = options.mesh.empty() ? options.vdb : options.mesh;
@@ -151,6 +153,7 @@ void runGdmBake(const GdmBakeOptions& options) {
     GdmAsset asset;
     asset.svd = compressGdm(raw, options.rank, layout);
     asset.occupancy = gdmOccupancy(raw);
+    asset.albedo = std::move(albedo);
     if (options.keepRaw) asset.raw = raw;
     asset.source = source;
     std::ostringstream settings;
@@ -163,7 +166,7 @@ void runGdmBake(const GdmBakeOptions& options) {
     asset.bake.date = utcNow();
     writeGdmAsset(options.output, asset, inputs);
     std::cout << "wrote " << options.output.string() << ": gdm.json weights.f32 eigen.f32 occupancy.u8"
-              << (options.keepRaw ? " raw.f32" : "") << "\n";
+              << (asset.albedo.empty() ? "" : " albedo.rgb8") << (options.keepRaw ? " raw.f32" : "") << "\n";
 }
 
 void addGdmBakeCommand(CLI::App& gdm) {

@@ -89,6 +89,9 @@ void printGdm(const fs::path& dir, bool asJson) {
     std::cout << "  weights.f32   : " << svd.weights.size() * sizeof(float) << " bytes\n";
     std::cout << "  eigen.f32     : " << svd.eigen.size() * sizeof(float) << " bytes\n";
     std::cout << "  occupancy.u8  : " << asset.occupancy.size() << " bytes\n";
+    std::cout << "  albedo.rgb8   : "
+              << (asset.albedo.empty() ? std::string("none") : std::to_string(asset.albedo.size()) + " bytes")
+              << "\n";
     std::cout << "  raw.f32       : " << (asset.raw ? std::to_string(raw) + " bytes" : std::string("none"))
               << "\n";
     std::cout << "  memory        : " << mib(svd.mapBytes()) << " maps, " << mib(asset.occupancy.size())

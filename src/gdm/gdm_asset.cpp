@@ -4,6 +4,7 @@
 #include "strata/core/error.h"
 #include "strata/core/file.h"
 #include "strata/core/version.h"
+#include "strata/image/quantize.h"
 
 #include "core/json_reader.h"
 #include "core/staging_dir.h"
@@ -42,7 +43,7 @@ struct Payload {
     }
 };
 
-std::vector<Payload> payloadsFor(const GdmSvd& svd, bool hasRaw) {
+std::vector<Payload> payloadsFor(const GdmSvd& svd, bool hasAlbedo, bool hasRaw) {
     const GdmDims& d = svd.dims;
     const auto r = std::size_t(svd.rank);
     std::vector<Payload> payloads = {
@@ -50,6 +51,12 @@ std::vector<Payload> payloadsFor(const GdmSvd& svd, bool hasRaw) {
         {"eigen", "eigen.f32", "float32", {r, svd.cols}, 4},
         {"occupancy", "occupancy.u8", "uint8", {std::size_t(d.nx), std::size_t(d.ny), std::size_t(d.nz)}, 1},
     };
+    if (hasAlbedo)
+        payloads.push_back({"albedo",
+                            "albedo.rgb8",
+                            "uint8",
+                            {std::size_t(d.nx), std::size_t(d.ny), std::size_t(d.nz), 3},
+                            1});
     if (hasRaw)
         payloads.push_back({"raw",
                             "raw.f32",
@@ -95,6 +102,18 @@ std::vector<std::uint8_t> gdmOccupancy(const Gdm& gdm) {
     return occupancy;
 }
 
+std::vector<std::uint8_t> mesostructureAlbedo(const Mesostructure& meso, const GdmDims& dims) {
+    std::vector<std::uint8_t> albedo(dims.voxelCount() * 3);
+    std::size_t at = 0;
+    for (int k = 0; k < dims.nz; ++k)
+        for (int j = 0; j < dims.ny; ++j)
+            for (int i = 0; i < dims.nx; ++i) {
+                const glm::dvec3 colour = meso.sample(gdmVoxelCentre(dims, meso.height(), i, j, k)).albedo;
+                for (int c = 0; c < 3; ++c) albedo[at++] = toUnorm8(colour[c]);
+            }
+    return albedo;
+}
+
 void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector<fs::path>& inputs) {
     const GdmSvd& svd = asset.svd;
     const std::string what = dir.string();
@@ -109,6 +128,10 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
         throw Error(ErrorKind::InvalidInput, what + ": the occupancy volume has " +
                                                  std::to_string(asset.occupancy.size()) + " voxels, not " +
                                                  std::to_string(svd.dims.voxelCount()));
+    if (!asset.albedo.empty() && asset.albedo.size() != svd.dims.voxelCount() * 3)
+        throw Error(ErrorKind::InvalidInput, what + ": the albedo volume has " +
+                                                 std::to_string(asset.albedo.size()) +
+                                                 " bytes, not 3 per voxel");
     if (asset.raw && (asset.raw->dims != svd.dims || asset.raw->height != svd.height ||
                       asset.raw->values.size() != svd.dims.valueCount()))
         throw Error(ErrorKind::InvalidInput, what + ": the raw GDM's dims or H differ from the SVD's");
@@ -123,7 +146,7 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
         if (fs::equivalent(dir, input, ec))
             throw Error(ErrorKind::Io, what + ": is an input (refusing to overwrite it)");
 
-    const std::vector<Payload> payloads = payloadsFor(svd, asset.raw.has_value());
+    const std::vector<Payload> payloads = payloadsFor(svd, !asset.albedo.empty(), asset.raw.has_value());
     json sidecar;
     sidecar["format"] = kGdmAssetFormat;
     sidecar["version"] = kGdmAssetVersion;
@@ -157,10 +180,11 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
     std::vector<std::string> names;
     for (const Payload& p : payloads) {
         refuseToOverwriteInputs(dir / p.file, inputs);
-        const void* data = p.key == "weights" ? static_cast<const void*>(svd.weights.data())
-                           : p.key == "eigen" ? static_cast<const void*>(svd.eigen.data())
-                           : p.key == "raw"   ? static_cast<const void*>(asset.raw->values.data())
-                                              : static_cast<const void*>(asset.occupancy.data());
+        const void* data = p.key == "weights"  ? static_cast<const void*>(svd.weights.data())
+                           : p.key == "eigen"  ? static_cast<const void*>(svd.eigen.data())
+                           : p.key == "raw"    ? static_cast<const void*>(asset.raw->values.data())
+                           : p.key == "albedo" ? static_cast<const void*>(asset.albedo.data())
+                                               : static_cast<const void*>(asset.occupancy.data());
         writeBytes(staging.path() / p.file, data, p.bytes());
         names.push_back(p.file);
     }
@@ -174,6 +198,7 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
     if (ec) throw Error(ErrorKind::Io, what + ": cannot create the output directory: " + ec.message());
     fs::remove(dir / kGdmAssetSidecar, ec);
     if (!asset.raw) fs::remove(dir / "raw.f32", ec);
+    if (asset.albedo.empty()) fs::remove(dir / "albedo.rgb8", ec);
     for (const std::string& name : names) {
         fs::rename(staging.path() / name, dir / name, ec);
         if (ec)
@@ -262,7 +287,7 @@ GdmAsset readGdmAsset(const fs::path& dir) {
     top.rejectUnknown();
     detail::JsonObjectReader files(*filesJson, "payloads", file);
     const bool hasRaw = files.has("raw");
-    for (const Payload& p : payloadsFor(svd, hasRaw)) {
+    for (const Payload& p : payloadsFor(svd, files.has("albedo"), hasRaw)) {
         const json* entry = files.object(p.key);
         const std::string where = "payloads." + p.key;
         if (!entry) files.fail(where, "missing");
@@ -295,6 +320,7 @@ GdmAsset readGdmAsset(const fs::path& dir) {
         if (p.key == "weights") svd.weights = floats();
         if (p.key == "eigen") svd.eigen = floats();
         if (p.key == "raw") asset.raw = Gdm{svd.dims, svd.height, floats()};
+        if (p.key == "albedo") asset.albedo.assign(bytes.begin(), bytes.end());
         if (p.key == "occupancy") {
             asset.occupancy.assign(bytes.begin(), bytes.end());
             for (std::uint8_t o : asset.occupancy)

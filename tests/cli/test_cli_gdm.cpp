@@ -31,6 +31,7 @@ TEST(CliGdm, BakesAReadableAssetThatInfoDescribes) {
     for (std::uint8_t o : asset.occupancy) inside += o;
     EXPECT_GT(inside, 0u);  // the grid's rods fill some voxel centres, not all
     EXPECT_LT(inside, asset.occupancy.size());
+    EXPECT_EQ(asset.albedo.size(), asset.occupancy.size() * 3);  // a built-in has colours
 
     const auto info = runCli("info " + quoted(dir / "out"));
     ASSERT_EQ(info.exitCode, 0) << info.output;

@@ -2,6 +2,7 @@
 #include "strata/gdm/gdm_asset.h"
 
 #include "strata/core/error.h"
+#include "strata/image/quantize.h"
 
 #include "test_support.h"
 
@@ -32,7 +33,10 @@ GdmAsset tinyAsset(bool keepRaw) {
     GdmAsset asset;
     asset.svd = compressGdm(gdm, 2);
     asset.occupancy = gdmOccupancy(gdm);
-    if (keepRaw) asset.raw = gdm;
+    if (keepRaw) {
+        asset.raw = gdm;
+        for (std::size_t n = 0; n < 8 * 3; ++n) asset.albedo.push_back(std::uint8_t(n * 10));
+    }
     asset.source = "test";
     asset.bake = {"--size 2x2x2", 0.5, "2026-12-04T00:00:00Z"};
     return asset;
@@ -73,13 +77,23 @@ TEST(GdmAsset, OccupancyIsWhereEveryDirectionIsZero) {
     for (std::size_t v = 1; v < 8; ++v) EXPECT_EQ(occupancy[v], 0) << v;
 }
 
+TEST(GdmAsset, AlbedoIsTheNearestPartsColourAtEachVoxelCentre) {
+    const Mesostructure meso = makeMesostructure("grid");
+    const GdmDims dims{4, 4, 2, 1, 1};
+    const std::vector<std::uint8_t> albedo = mesostructureAlbedo(meso, dims);
+    ASSERT_EQ(albedo.size(), dims.voxelCount() * 3);
+    // Voxel (1, 2, 1): index 1 + 4 (2 + 4 * 1) = 25; the exact 8-bit value of its sample's colour.
+    const glm::dvec3 colour = meso.sample(gdmVoxelCentre(dims, meso.height(), 1, 2, 1)).albedo;
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(albedo[25 * 3 + std::size_t(c)], toUnorm8(colour[c])) << c;
+}
+
 TEST(GdmAsset, RoundTripIsBitExact) {
     test::ScratchDir dir("gdm-asset");
     const GdmAsset asset = tinyAsset(true);
     writeGdmAsset(dir / "a", asset);
     EXPECT_TRUE(isGdmAsset(dir / "a"));
     EXPECT_EQ(test::countEntries(dir.path()), 1);  // no staging directory left
-    EXPECT_EQ(test::countEntries(dir / "a"), 5);   // gdm.json and four payloads
+    EXPECT_EQ(test::countEntries(dir / "a"), 6);   // gdm.json and five payloads
     const GdmAsset back = readGdmAsset(dir / "a");
     EXPECT_EQ(back.svd.dims, asset.svd.dims);
     EXPECT_EQ(back.svd.height, asset.svd.height);
@@ -95,6 +109,7 @@ TEST(GdmAsset, RoundTripIsBitExact) {
     EXPECT_TRUE(sameBits(back.raw->values, asset.raw->values));  // +inf (kGdmMiss) included
     EXPECT_EQ(back.raw->values[6], kGdmMiss);
     EXPECT_EQ(back.occupancy, asset.occupancy);
+    EXPECT_EQ(back.albedo, asset.albedo);
     EXPECT_EQ(back.source, "test");
     EXPECT_EQ(back.bake.settings, "--size 2x2x2");
     EXPECT_EQ(back.bake.seconds, 0.5);
@@ -107,6 +122,7 @@ TEST(GdmAsset, RewritingWithoutRawDropsIt) {
     writeGdmAsset(dir / "a", tinyAsset(false));
     EXPECT_EQ(test::countEntries(dir / "a"), 4);
     EXPECT_FALSE(readGdmAsset(dir / "a").raw.has_value());
+    EXPECT_TRUE(readGdmAsset(dir / "a").albedo.empty());
 }
 
 TEST(GdmAsset, RefusesToOverwriteWhatIsNotAnAsset) {

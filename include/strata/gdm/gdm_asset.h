@@ -8,6 +8,8 @@
 //   eigen.f32       E, rank x cols float32, row-major (GdmSvd::eigen).
 //   occupancy.u8    Nx x Ny x Nz bytes, x fastest (CONVENTIONS §8): 1 where the voxel centre is inside the
 //                   solid (the raw GDM's value is 0), else 0.
+//   albedo.rgb8     optional: Nx x Ny x Nz x 3 bytes, x fastest, sRGB-encoded RGB of the part nearest to
+//                   each voxel centre (Mesostructure::sample), for the built-ins.
 //   raw.f32         optional: the raw GDM, Gdm::values in Gdm::valueIndex order, kGdmMiss as +inf.
 //
 // Writing is all or nothing (staged beside the directory, renamed into place, the sidecar last); reading
@@ -16,6 +18,7 @@
 
 #include "strata/gdm/gdm.h"
 #include "strata/gdm/gdm_svd.h"
+#include "strata/gdm/mesostructure.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -40,12 +43,17 @@ struct GdmAsset {
     GdmSvd svd;                           // the compressed GDM (its dims and H are the asset's)
     std::optional<Gdm> raw;               // the raw GDM, when kept (same dims and H)
     std::vector<std::uint8_t> occupancy;  // Nx Ny Nz, x fastest; 1 inside the solid, 0 outside
+    std::vector<std::uint8_t> albedo;     // Nx Ny Nz x RGB, x fastest, sRGB 8-bit; empty: none
     std::string source;                   // where the solid came from: "meso weave", an OBJ path
     GdmBakeInfo bake;
 };
 
 // The occupancy volume of a raw GDM: 1 where every direction's value is 0 (inside), else 0.
 std::vector<std::uint8_t> gdmOccupancy(const Gdm& gdm);
+
+// The albedo volume of a mesostructure at `dims`: toUnorm8 of Mesostructure::sample(centre).albedo at each
+// voxel centre (gdmVoxelCentre with H = meso.height()), RGB interleaved, voxels in §8 order.
+std::vector<std::uint8_t> mesostructureAlbedo(const Mesostructure& meso, const GdmDims& dims);
 
 // Writes `asset` to the directory `dir`, atomically: every file is staged in a sibling directory first, then
 // renamed into `dir` (created if needed), gdm.json last; any failure leaves `dir` as it was. Throws
