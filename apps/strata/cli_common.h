@@ -26,6 +26,8 @@ void addCompareCommand(CLI::App& app);
 void addDualDepthCommand(CLI::App& app);
 void addConeMapCommand(CLI::App& app);
 void addMesoCommand(CLI::App& app);
+// `strata gdm` and its subcommands (cmd_gdm.cpp registers `bake`; others add theirs there).
+void addGdmCommand(CLI::App& app);
 
 // A progress line on stderr, only when stderr is a terminal (pipes and CI logs stay clean).
 void progress(const std::string& message);

@@ -1,14 +1,18 @@
 // strata info PATH [--json]
-// PATH: a texture-set directory, its strata.json sidecar, or a single image file.
+// PATH: a texture-set directory, its strata.json sidecar, a GDM asset directory, or a single image file.
 #include "cli_common.h"
 
 #include "strata/core/error.h"
+#include "strata/gdm/gdm_asset.h"
 #include "strata/image/image_io.h"
 
 #include <nlohmann/json.hpp>
 
+#include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -56,10 +60,52 @@ void printSet(const fs::path& path, const json& sidecar) {
     if (sidecar.contains("source")) std::cout << "  source        : " << sidecar["source"].dump() << "\n";
 }
 
+std::string mib(std::size_t bytes) {
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(2) << double(bytes) / double(1 << 20) << " MiB";
+    return text.str();
+}
+
+// A GDM asset: read in full, so that `info` also says whether it is valid.
+void printGdm(const fs::path& dir, bool asJson) {
+    const GdmAsset asset = readGdmAsset(dir);
+    if (asJson) {
+        std::ifstream in(dir / kGdmAssetSidecar);
+        std::cout << in.rdbuf();
+        return;
+    }
+    const GdmSvd& svd = asset.svd;
+    const GdmDims& d = svd.dims;
+    std::cout << dir.string() << ": Strata GDM asset (version " << kGdmAssetVersion << ")\n";
+    std::cout << "  dims          : " << d.nx << "x" << d.ny << "x" << d.nz << " voxels, " << d.ntheta << "x"
+              << d.nphi << " directions\n";
+    std::cout << "  height H      : " << svd.height << " tile widths\n";
+    std::cout << "  rank          : " << svd.rank << ", layout " << toString(svd.layout) << " (" << svd.rows
+              << " x " << svd.cols << "), exit tolerance " << svd.exitTolerance << "\n";
+    std::cout << "  source        : " << asset.source << "\n";
+    std::cout << "  bake          : " << asset.bake.settings << ", " << asset.bake.seconds << " s, "
+              << asset.bake.date << "\n";
+    const std::size_t raw = asset.raw ? asset.raw->values.size() * sizeof(float) : 0;
+    std::cout << "  weights.f32   : " << svd.weights.size() * sizeof(float) << " bytes\n";
+    std::cout << "  eigen.f32     : " << svd.eigen.size() * sizeof(float) << " bytes\n";
+    std::cout << "  occupancy.u8  : " << asset.occupancy.size() << " bytes\n";
+    std::cout << "  albedo.rgb8   : "
+              << (asset.albedo.empty() ? std::string("none") : std::to_string(asset.albedo.size()) + " bytes")
+              << "\n";
+    std::cout << "  raw.f32       : " << (asset.raw ? std::to_string(raw) + " bytes" : std::string("none"))
+              << "\n";
+    std::cout << "  memory        : " << mib(svd.mapBytes()) << " maps, " << mib(asset.occupancy.size())
+              << " occupancy, raw GDM " << mib(d.valueCount() * sizeof(float)) << "\n";
+}
+
 void runInfo(const InfoOptions& options) {
     std::error_code ec;
     if (!fs::exists(options.path, ec))
         throw Error(ErrorKind::Io, options.path.string() + ": no such file or directory");
+    if (fs::is_directory(options.path, ec) && isGdmAsset(options.path)) {
+        printGdm(options.path, options.json);
+        return;
+    }
     const bool isSet = fs::is_directory(options.path, ec) || options.path.extension() == ".json";
     if (!isSet) {
         const json info = imageJson(options.path);
@@ -84,8 +130,12 @@ void runInfo(const InfoOptions& options) {
 
 void addInfoCommand(CLI::App& app) {
     auto options = std::make_shared<InfoOptions>();
-    CLI::App* command = app.add_subcommand("info", "Describe a texture set, its sidecar, or an image file");
-    command->add_option("path", options->path, "Texture-set directory, strata.json, or image")->required();
+    CLI::App* command =
+        app.add_subcommand("info", "Describe a texture set, its sidecar, a GDM asset, or an image file");
+    command
+        ->add_option("path", options->path,
+                     "Texture-set directory, strata.json, GDM asset directory, or image")
+        ->required();
     command->add_flag("--json", options->json, "Print JSON (the sidecar, or the image header)");
     command->callback([options] { runInfo(*options); });
 }
