@@ -10,7 +10,8 @@
 // diagonalise densely), 2^20 segment queries; its counters are the table (times are not meaningful).
 // `exitTolerance`: the exit rule's errors against its tolerance (0.5 to 8 voxels), rank 8, paper's layout.
 // Run: build/ci/bench/bench_gdm_svd --benchmark_filter=compress --benchmark_repetitions=9
-//      build/ci/bench/bench_gdm_svd --benchmark_filter='error|exitTolerance' --benchmark_counters_tabular=true
+//      build/ci/bench/bench_gdm_svd --benchmark_filter='error|exitTolerance'
+//      --benchmark_counters_tabular=true
 #include "strata/gdm/gdm_analytic.h"
 #include "strata/gdm/gdm_svd.h"
 

@@ -54,8 +54,7 @@ float coneIntersect(vec2 dp, vec2 ds) {
     vec2 cd = ds * size;
     float travel = length(cd);
     vec2 ahead = step(0.0f, cd);
-    vec2 inverse =
-        vec2(abs(cd.x) > 1e-20f ? 1.0f / cd.x : 1e30f, abs(cd.y) > 1e-20f ? 1.0f / cd.y : 1e30f);
+    vec2 inverse = vec2(abs(cd.x) > 1e-20f ? 1.0f / cd.x : 1e30f, abs(cd.y) > 1e-20f ? 1.0f / cd.y : 1e30f);
     float d = 0.0f;
     for (int iteration = 0; iteration < 2048; ++iteration) {
         vec2 cell = cellAt(c0 + cd * d, cd, 1.0f);

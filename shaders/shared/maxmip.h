@@ -42,8 +42,7 @@ float maxMipIntersect(vec2 dp, vec2 ds) {
     // Per axis, which face of a node the ray leaves by, and 1 / cd (a ray parallel to an axis never leaves
     // through that axis's faces).
     vec2 ahead = step(0.0f, cd);
-    vec2 inverse =
-        vec2(abs(cd.x) > 1e-20f ? 1.0f / cd.x : 1e30f, abs(cd.y) > 1e-20f ? 1.0f / cd.y : 1e30f);
+    vec2 inverse = vec2(abs(cd.x) > 1e-20f ? 1.0f / cd.x : 1e30f, abs(cd.y) > 1e-20f ? 1.0f / cd.y : 1e30f);
     int top = maxMipLevels() - 1;
     // Start where a node is about as wide as the ray's whole travel through the depth range: a larger one
     // is never left before the ray reaches its highest point, so reading it only costs a fetch.

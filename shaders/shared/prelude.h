@@ -56,6 +56,8 @@ using glm::sqrt;
 using glm::step;
 }  // namespace strata::shared
 
+// One macro per line reads better than clang-format's backslash columns.
+// clang-format off
 #define STRATA_SHARED_BEGIN namespace strata::shared {
 #define STRATA_SHARED_END }
 #define STRATA_SHARED_FUNCTION inline
@@ -69,4 +71,5 @@ using glm::step;
 #define STRATA_SHARED_CLASS_BEGIN(name)
 #define STRATA_SHARED_FETCH(signature) signature;
 #define STRATA_SHARED_CLASS_END
+// clang-format on
 #endif

@@ -51,11 +51,11 @@ layout(std140, binding = kReliefUniformsBinding) uniform ReliefUniforms {
     float uAmbient;
     float uSpecular;
     float uShininess;
-    float uAoScale;            // S_render / S_ao, for STRATA_AO_PAPER
-    int uEncodeSrgb;           // shaded: 1 writes sRGB-encoded values (draw()), 0 linear (render())
-    float uColorTiling;        // colour repeats per tile (a live meta-relief's colour layer's t; else 1)
-    int uMaxMipLevels;         // levels of uMaxMip, the top one 1 x 1 (maxmip.glsl)
-    float uConeMaxRatio;       // the cone ratio that an encoded 1 stands for (cone.glsl)
+    float uAoScale;       // S_render / S_ao, for STRATA_AO_PAPER
+    int uEncodeSrgb;      // shaded: 1 writes sRGB-encoded values (draw()), 0 linear (render())
+    float uColorTiling;   // colour repeats per tile (a live meta-relief's colour layer's t; else 1)
+    int uMaxMipLevels;    // levels of uMaxMip, the top one 1 x 1 (maxmip.glsl)
+    float uConeMaxRatio;  // the cone ratio that an encoded 1 stands for (cone.glsl)
     // Live meta-relief (STRATA_META_LIVE; relief_search.glsl, relief.frag.glsl metaShade). Per layer, in
     // the renderer's search order (largest weighted depth range first).
     int uLayerCount;
@@ -64,8 +64,8 @@ layout(std140, binding = kReliefUniformsBinding) uniform ReliefUniforms {
     int uPadding0;        // the arrays start at a multiple of 16 bytes
     int uPadding1;
     int uPadding2;
-    Std140Float uLayerTiling[kMaxLiveLayers];        // t_i
-    Std140Float uLayerDepthWeight[kMaxLiveLayers];   // w_d,i / W, W = sum_j w_d,j
+    Std140Float uLayerTiling[kMaxLiveLayers];       // t_i
+    Std140Float uLayerDepthWeight[kMaxLiveLayers];  // w_d,i / W, W = sum_j w_d,j
     // Bounds of what the layers after layer i can add to Eq. 2: the sums of (w_d,j / W) min d_j and of
     // (w_d,j / W) max d_j over j > i (reliefBelow).
     Std140Float uLayerRestLow[kMaxLiveLayers];
