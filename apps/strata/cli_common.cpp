@@ -47,6 +47,27 @@ bool isPngName(const fs::path& path) {
     return lowerCaseExtension(path) == ".png";
 }
 
+std::vector<int> parseSizeList(const std::string& text, std::size_t count, const std::string& flag,
+                               const std::string& example) {
+    std::vector<int> sizes;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t end = text.find_first_of("xX", start);
+        const std::string part =
+            text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+        if (part.empty() || part.size() > 9 ||
+            !std::all_of(part.begin(), part.end(), [](char c) { return c >= '0' && c <= '9'; }))
+            break;
+        sizes.push_back(std::stoi(part));
+        if (end == std::string::npos) {
+            if (sizes.size() == count) return sizes;
+            break;
+        }
+        start = end + 1;
+    }
+    throw Error(ErrorKind::Usage, flag + ": expected " + example + ", got '" + text + "'");
+}
+
 DepthInput readDepthInput(const fs::path& path, bool height, const std::string& command) {
     std::error_code ec;
     const bool isDirectory = fs::is_directory(path, ec);

@@ -46,6 +46,11 @@ void reportWritten(const std::filesystem::path& dir, const std::vector<std::file
 std::filesystem::path sidecarPathFor(const std::filesystem::path& output);
 bool isPngName(const std::filesystem::path& path);  // .png, any case
 
+// A size flag such as --size 1280x720 or 64x64x16: exactly `count` integers >= 0 separated by 'x' (or 'X').
+// Throws Error(Usage) "<flag>: expected <example>, got '<text>'" otherwise. Ranges are the caller's to check.
+std::vector<int> parseSizeList(const std::string& text, std::size_t count, const std::string& flag,
+                               const std::string& example);
+
 // The depth map a map-making command (ao, cone-map) reads: a depth map file (a height map with `height`),
 // or a texture-set directory or its strata.json (its depth map).
 struct DepthInput {

@@ -41,30 +41,6 @@ struct GdmBakeOptions {
     fs::path output;
 };
 
-// "64x64x16" -> {64, 64, 16}: exactly `count` integers >= 0 separated by 'x'. Throws Error(Usage) naming the
-// flag otherwise (a zero is left to validateGdmDims, which says what it needs).
-std::vector<int> parseSizes(const std::string& text, std::size_t count, const std::string& flag,
-                            const std::string& example) {
-    std::vector<int> sizes;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t end = text.find('x', start);
-        const std::string part =
-            text.substr(start, end == std::string::npos ? std::string::npos : end - start);
-        if (part.empty() || part.size() > 9 ||
-            !std::all_of(part.begin(), part.end(), [](char c) { return c >= '0' && c <= '9'; }))
-            break;
-        sizes.push_back(std::stoi(part));
-        if (end == std::string::npos) {
-            if (sizes.size() == count) return sizes;
-            break;
-        }
-        start = end + 1;
-    }
-    throw Error(ErrorKind::Usage,
-                "gdm bake: " + flag + " must look like " + example + ", got \"" + text + "\"");
-}
-
 GdmLayout parseLayout(const std::string& name) {
     if (name == "xy-phi") return GdmLayout::XyPhiByThetaZ;
     if (name == "xyz") return GdmLayout::XyzByThetaPhi;
@@ -92,8 +68,8 @@ void runGdmBake(const GdmBakeOptions& options) {
     if (options.height && !(std::isfinite(*options.height) && *options.height > 0.0))
         throw Error(ErrorKind::InvalidInput, "gdm bake: --height must be a number > 0 (tile widths), got " +
                                                  formatNumber(*options.height));
-    const std::vector<int> size = parseSizes(options.size, 3, "--size", "64x64x16");
-    const std::vector<int> dirs = parseSizes(options.dirs, 2, "--dirs", "16x32");
+    const std::vector<int> size = parseSizeList(options.size, 3, "--size", "NXxNYxNZ (e.g. 64x64x16)");
+    const std::vector<int> dirs = parseSizeList(options.dirs, 2, "--dirs", "NTHETAxNPHI (e.g. 16x32)");
     const GdmDims dims{size[0], size[1], size[2], dirs[0], dirs[1]};
     const GdmLayout layout = parseLayout(options.layout);
     if (options.rank < 1)

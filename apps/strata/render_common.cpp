@@ -144,13 +144,9 @@ Scene buildScene(const SceneFlags& f) {
 
     PictureSettings& p = scene.picture;
     if (!f.size.empty()) {
-        int w = 0, h = 0;
-        char x = 0;
-        std::istringstream in(f.size);
-        if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || !in.eof())
-            throw Error(ErrorKind::Usage, "--size: expected WxH (e.g. 1280x720), got '" + f.size + "'");
-        p.width = w;
-        p.height = h;
+        const std::vector<int> size = parseSizeList(f.size, 2, "--size", "WxH (e.g. 1280x720)");
+        p.width = size[0];
+        p.height = size[1];
     }
     if (!f.depthMap.empty() && !f.samples) p.samples = 1;
     if (f.samples) p.samples = *f.samples;
