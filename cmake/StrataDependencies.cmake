@@ -17,6 +17,9 @@ find_package(TinyGLTF REQUIRED)                 # libtinygltf-dev: glTF 2.0 mesh
 find_package(embree 3 REQUIRED)
 list(APPEND CMAKE_MODULE_PATH /usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/OpenVDB)
 find_package(OpenVDB REQUIRED)
+# Spectra (libspectra-dev, header-only, on Eigen): the k largest eigenpairs of the GDM SVD's Gram matrix
+# where it is too large to diagonalise whole.
+find_package(Spectra REQUIRED)
 # The gl layer: OpenGL 4.5 core through libepoxy (libepoxy-dev), headless through EGL (libegl-dev,
 # libegl-mesa0, libgl1-mesa-dri: Mesa, llvmpipe without a GPU). libepoxy resolves both GL and EGL.
 pkg_check_modules(EPOXY REQUIRED IMPORTED_TARGET epoxy)

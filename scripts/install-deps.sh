@@ -11,8 +11,9 @@ packages=(
   libpng-dev libstb-dev libtinyexr-dev libglm-dev libeigen3-dev libcli11-dev nlohmann-json3-dev libtbb-dev
   # meshes
   libtinyobjloader-dev libtinygltf-dev
-  # generalized displacement maps: Embree 3 ray casting, OpenVDB level sets (its CMake module needs Boost)
-  libembree-dev libopenvdb-dev libboost-iostreams-dev
+  # generalized displacement maps: Embree 3 ray casting, OpenVDB level sets (its CMake module needs Boost),
+  # Spectra (the largest eigenpairs of a large Gram matrix, for the SVD's wide layout)
+  libembree-dev libopenvdb-dev libboost-iostreams-dev libspectra-dev
   # OpenGL 4.5 core through libepoxy, headless through EGL on Mesa (llvmpipe when there is no GPU)
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   # the viewer (strata-view): GLFW windows, Dear ImGui with its GLFW / OpenGL 3 backends; its tests run it

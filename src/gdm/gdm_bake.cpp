@@ -41,50 +41,73 @@ std::vector<int> packetOrder(const GdmDims& dims) {
     return order;
 }
 
-// The distances from `origin` along the 16 directions directions[lanes[n]] (lanes[n] < 0: none) into
-// values[lanes[n]]. Rays from one point in neighbouring directions visit mostly the same nodes: their first
-// segments go to Embree as one packet, and the few that go on past the column continue one by one.
+// The distances from `origin` (outside the solid) along the 16 directions directions[lanes[n]]
+// (lanes[n] < 0: none) into values[lanes[n]]. Rays from one point in neighbouring directions visit mostly
+// the same nodes, so they go to Embree as one packet, segment by segment: the lanes that leave the column
+// without a hit are moved back by whole tiles (periodic_scene.h) and traced on together, until every lane
+// has hit or left the slab. A lane whose hit shows that it slipped through a crack of a scene built with
+// SceneTest::Fast (a face it leaves the solid through) is traced again in the watertight scene.
 void tracePacket(const PeriodicScene& scene, RTCIntersectContext& context, const glm::dvec3& origin,
                  const int* lanes, const std::vector<glm::dvec3>& directions, double height, float* values) {
     alignas(64) RTCRayHit16 packet;
     alignas(64) int valid[kPacketWidth];
+    glm::dvec3 start[kPacketWidth];  // each lane's current segment's origin
+    double travelled[kPacketWidth];  // how far each lane's ray has come before that segment
     double tColumn[kPacketWidth];
     bool any = false;
     for (int n = 0; n < kPacketWidth; ++n) {
         valid[n] = 0;
         if (lanes[n] < 0) continue;
-        const glm::dvec3& direction = directions[std::size_t(lanes[n])];
         values[lanes[n]] = kGdmMiss;
-        if (leavesMesh(scene, origin, direction)) continue;
-        const Segment first = segment(origin, direction, height, 0.0);
+        if (leavesMesh(scene, origin, directions[std::size_t(lanes[n])])) continue;
         valid[n] = -1;
         any = true;
-        tColumn[n] = first.tColumn;
-        packet.ray.org_x[n] = float(origin.x);
-        packet.ray.org_y[n] = float(origin.y);
-        packet.ray.org_z[n] = float(origin.z);
-        packet.ray.tnear[n] = 0.0f;
-        packet.ray.dir_x[n] = float(direction.x);
-        packet.ray.dir_y[n] = float(direction.y);
-        packet.ray.dir_z[n] = float(direction.z);
-        packet.ray.time[n] = 0.0f;
-        packet.ray.tfar[n] = first.tFar;
-        packet.ray.mask[n] = ~0u;
-        packet.ray.id[n] = 0;
-        packet.ray.flags[n] = 0;
-        packet.hit.geomID[n] = RTC_INVALID_GEOMETRY_ID;
-        packet.hit.instID[0][n] = RTC_INVALID_GEOMETRY_ID;
+        start[n] = origin;
+        travelled[n] = 0.0;
     }
-    if (!any) return;
-    rtcIntersect16(valid, scene.scene.get(), &context, &packet);
-    for (int n = 0; n < kPacketWidth; ++n) {
-        if (valid[n] == 0) continue;
-        if (packet.hit.geomID[n] != RTC_INVALID_GEOMETRY_ID)
-            values[lanes[n]] = packet.ray.tfar[n];
-        else if (tColumn[n] >= 0.0) {
+    while (any) {
+        for (int n = 0; n < kPacketWidth; ++n) {
+            if (valid[n] == 0) continue;
             const glm::dvec3& direction = directions[std::size_t(lanes[n])];
-            values[lanes[n]] = distanceAlong(scene, context, wrapped(origin, direction, tColumn[n]),
-                                             direction, height, tColumn[n]);
+            const Segment next = segment(scene, start[n], direction, height, travelled[n]);
+            tColumn[n] = next.tColumn;
+            packet.ray.org_x[n] = float(start[n].x);
+            packet.ray.org_y[n] = float(start[n].y);
+            packet.ray.org_z[n] = float(start[n].z);
+            packet.ray.tnear[n] = 0.0f;
+            packet.ray.dir_x[n] = float(direction.x);
+            packet.ray.dir_y[n] = float(direction.y);
+            packet.ray.dir_z[n] = float(direction.z);
+            packet.ray.time[n] = 0.0f;
+            packet.ray.tfar[n] = next.tFar;
+            packet.ray.mask[n] = ~0u;
+            packet.ray.id[n] = 0;
+            packet.ray.flags[n] = 0;
+            packet.hit.geomID[n] = RTC_INVALID_GEOMETRY_ID;
+            packet.hit.instID[0][n] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect16(valid, scene.scene.get(), &context, &packet);
+        any = false;
+        for (int n = 0; n < kPacketWidth; ++n) {
+            if (valid[n] == 0) continue;
+            const glm::dvec3& direction = directions[std::size_t(lanes[n])];
+            if (packet.hit.geomID[n] != RTC_INVALID_GEOMETRY_ID) {
+                const glm::vec3& normal = scene.normals[packet.hit.primID[n]];
+                const bool slipped = !scene.watertight && glm::dot(glm::dvec3(normal), direction) >= 0.0;
+                values[lanes[n]] =
+                    slipped ? distanceAlong(scene, scene.robust(), context, origin, direction, height, 0.0)
+                            : float(travelled[n] + double(packet.ray.tfar[n]));
+                valid[n] = 0;
+            } else if (tColumn[n] < 0.0) {
+                valid[n] = 0;  // left the slab: a miss
+            } else {
+                start[n] = wrapped(start[n], direction, tColumn[n]);
+                travelled[n] += tColumn[n];
+                if (leavesMesh(scene, start[n], direction))
+                    valid[n] = 0;
+                else
+                    any = true;
+            }
         }
     }
 }
@@ -106,7 +129,7 @@ Gdm bakeGdm(const SolidMesh& solid, const GdmDims& dims, const GdmBakeProgress& 
     }
 
     EmbreeErrors errors;
-    const PeriodicScene scene = buildScene(solid, what, errors);
+    const PeriodicScene scene = buildScene(solid, what, errors, SceneTest::Fast);
     const double height = solid.height;
     const int directionCount = int(dims.directionCount());
     std::vector<glm::dvec3> directions(static_cast<std::size_t>(directionCount));

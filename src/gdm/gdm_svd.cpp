@@ -4,6 +4,8 @@
 #include "strata/core/error.h"
 #include "strata/core/parallel.h"
 
+#include <Spectra/MatOp/DenseSymMatProd.h>
+#include <Spectra/SymEigsSolver.h>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #if defined(__x86_64__)
@@ -242,6 +244,51 @@ Eigen::MatrixXd gramMatrix(const LayoutReader& reader, std::size_t rows, std::si
     return partial[0].topLeftCorner(Eigen::Index(n), Eigen::Index(n));
 }
 
+// Gram matrices up to this size are diagonalised whole (Eigen's SelfAdjointEigenSolver: exact, and fast
+// at the paper's 256 x 256); larger ones, e.g. the 4096 x 4096 of (x, y) x (z, theta, phi) at 64 x 64
+// voxels, give only their k largest eigenpairs, by Spectra's implicitly restarted Lanczos method.
+constexpr Eigen::Index kDenseEigenMax = 1024;
+
+struct Eigenpairs {
+    Eigen::VectorXd values;   // the k largest, descending
+    Eigen::MatrixXd vectors;  // n x k, unit columns, each one's largest component positive
+};
+
+// The `rank` largest eigenpairs of a symmetric matrix given by its lower triangle. Deterministic: Spectra
+// starts from its own fixed pseudo-random vector.
+Eigenpairs largestEigenpairs(const Eigen::MatrixXd& gram, int rank) {
+    const Eigen::Index n = gram.rows();
+    Eigenpairs result;
+    if (n <= kDenseEigenMax || 4 * Eigen::Index(rank) > n) {
+        const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(gram);
+        if (solver.info() != Eigen::Success)
+            throw Error(ErrorKind::Runtime, "GDM SVD: the eigensolver of the Gram matrix did not converge");
+        // Eigen sorts them ascending.
+        result.values = solver.eigenvalues().tail(rank).reverse();
+        result.vectors = solver.eigenvectors().rightCols(rank).rowwise().reverse();
+    } else {
+        Spectra::DenseSymMatProd<double, Eigen::Lower> product(gram);
+        const Eigen::Index subspace = std::min(n, 2 * Eigen::Index(rank) + 32);
+        Spectra::SymEigsSolver<Spectra::DenseSymMatProd<double, Eigen::Lower>> solver(product, rank,
+                                                                                      subspace);
+        solver.init();
+        solver.compute(Spectra::SortRule::LargestAlge, 1000, 1e-12);
+        if (solver.info() != Spectra::CompInfo::Successful)
+            throw Error(ErrorKind::Runtime,
+                        "GDM SVD: the Lanczos eigensolver of the Gram matrix did not converge");
+        result.values = solver.eigenvalues();  // descending
+        result.vectors = solver.eigenvectors();
+    }
+    // Fix each vector's sign so that its largest component is positive: the maps do not flip sign between
+    // builds of Eigen or solvers.
+    for (int r = 0; r < rank; ++r) {
+        Eigen::Index largest = 0;
+        result.vectors.col(r).cwiseAbs().maxCoeff(&largest);
+        if (result.vectors(largest, r) < 0.0) result.vectors.col(r) *= -1.0;
+    }
+    return result;
+}
+
 // The product W E as a row-major float matrix (rows x cols), in parallel over row blocks.
 std::vector<float> reconstructMatrix(const GdmSvd& svd) {
     std::vector<float> out(svd.rows * svd.cols);
@@ -342,21 +389,11 @@ GdmSvd compressGdm(const Gdm& gdm, int rank, GdmLayout layout) {
     svd.exitTolerance = 0.5 * gdm.height / gdm.dims.nz;
 
     const LayoutReader reader(gdm, layout);
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(gramMatrix(reader, svd.rows, svd.cols));
-    if (solver.info() != Eigen::Success)
-        throw Error(ErrorKind::Runtime, "GDM SVD: the eigensolver of the Gram matrix did not converge");
-    // The k largest eigenpairs (Eigen sorts them ascending), each vector's sign fixed so that its largest
-    // component is positive: the maps do not flip sign between builds of Eigen.
-    Eigen::MatrixXd basis(Eigen::Index(n), rank);
+    Eigenpairs pairs = largestEigenpairs(gramMatrix(reader, svd.rows, svd.cols), rank);
+    Eigen::MatrixXd& basis = pairs.vectors;
     svd.singularValues.resize(std::size_t(rank));
-    for (int r = 0; r < rank; ++r) {
-        const Eigen::Index column = Eigen::Index(n) - 1 - r;
-        Eigen::Index largest = 0;
-        solver.eigenvectors().col(column).cwiseAbs().maxCoeff(&largest);
-        const double sign = solver.eigenvectors()(largest, column) < 0.0 ? -1.0 : 1.0;
-        basis.col(r) = sign * solver.eigenvectors().col(column);
-        svd.singularValues[std::size_t(r)] = std::sqrt(std::max(0.0, solver.eigenvalues()(column)));
-    }
+    for (int r = 0; r < rank; ++r)
+        svd.singularValues[std::size_t(r)] = std::sqrt(std::max(0.0, pairs.values(r)));
 
     svd.weights.resize(svd.rows * std::size_t(rank));
     svd.eigen.resize(std::size_t(rank) * svd.cols);

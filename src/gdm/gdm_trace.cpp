@@ -281,8 +281,9 @@ GdmSceneImages renderGdmReference(const SolidMesh& solid, const Camera& camera, 
                 origin.z = std::clamp(origin.z, 0.0, shell);
                 const double reach = glm::length(light - origin);
                 const glm::dvec3 shadowDirection = (light - origin) / reach;
-                const float blocker = distanceAlong(scene, context, wrapped(origin, shadowDirection, 0.0),
-                                                    shadowDirection, shell, 0.0);
+                const float blocker =
+                    distanceAlong(scene, scene.scene.get(), context, wrapped(origin, shadowDirection, 0.0),
+                                  shadowDirection, shell, 0.0);
                 lit = double(blocker) >= reach;
             }
             writeHit(images, i, j, point, shell, lit);

@@ -40,7 +40,8 @@ void checkMesh(const SolidMesh& solid, const std::string& what) {
                                                          " of " + std::to_string(solid.positions.size()));
 }
 
-PeriodicScene buildScene(const SolidMesh& solid, const std::string& what, EmbreeErrors& errors) {
+PeriodicScene buildScene(const SolidMesh& solid, const std::string& what, EmbreeErrors& errors,
+                         SceneTest test) {
     PeriodicScene result;
     result.device.reset(rtcNewDevice(nullptr));
     if (!result.device)
@@ -89,25 +90,25 @@ PeriodicScene buildScene(const SolidMesh& solid, const std::string& what, Embree
                 for (const glm::vec3& position : solid.positions) positions.push_back(position + shift);
         }
 
+    result.watertight =
+        test == SceneTest::Watertight || lo.z < 0.0f || double(hi.z) > solid.height || triangles.empty();
     result.scene.reset(rtcNewScene(result.device.get()));
     if (!result.scene) throw Error(ErrorKind::Runtime, what + ": " + errors.first);
-    // Robust: Embree's watertight triangle test, so that a ray through a shared edge is not lost between
-    // the two triangles. The context filter is the inside test's crossing counter.
-    rtcSetSceneFlags(result.scene.get(), RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+    // The context filter is the inside test's crossing counter.
+    rtcSetSceneFlags(result.scene.get(), (result.watertight ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
+                                             RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     rtcSetSceneBuildQuality(result.scene.get(), RTC_BUILD_QUALITY_MEDIUM);
     if (!triangles.empty()) {
-        RTCGeometry geometry = rtcNewGeometry(result.device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-        if (!geometry) throw Error(ErrorKind::Runtime, what + ": " + errors.first);
+        result.geometry.reset(rtcNewGeometry(result.device.get(), RTC_GEOMETRY_TYPE_TRIANGLE));
+        if (!result.geometry) throw Error(ErrorKind::Runtime, what + ": " + errors.first);
+        RTCGeometry geometry = result.geometry.get();
         // Embree reads 16 bytes at the last vertex: one float of padding.
         auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
             geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size() + 1));
         auto* indices = static_cast<std::uint32_t*>(
             rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                     3 * sizeof(std::uint32_t), triangles.size()));
-        if (!vertices || !indices) {
-            rtcReleaseGeometry(geometry);
-            throw Error(ErrorKind::Runtime, what + ": " + errors.first);
-        }
+        if (!vertices || !indices) throw Error(ErrorKind::Runtime, what + ": " + errors.first);
         for (std::size_t p = 0; p < positions.size(); ++p) {
             vertices[3 * p + 0] = positions[p].x;
             vertices[3 * p + 1] = positions[p].y;
@@ -119,12 +120,26 @@ PeriodicScene buildScene(const SolidMesh& solid, const std::string& what, Embree
             for (int corner = 0; corner < 3; ++corner) indices[3 * t + corner] = triangles[t][corner];
         rtcCommitGeometry(geometry);
         rtcAttachGeometry(result.scene.get(), geometry);
-        rtcReleaseGeometry(geometry);
     }
     rtcCommitScene(result.scene.get());
     if (rtcGetDeviceError(result.device.get()) != RTC_ERROR_NONE || !errors.first.empty())
         throw Error(ErrorKind::Runtime, what + ": " + errors.first);
     return result;
+}
+
+RTCScene PeriodicScene::robust() const {
+    if (watertight) return scene.get();
+    std::call_once(lazy_->once, [&] {
+        SceneHandle built(rtcNewScene(device.get()));
+        if (!built) return;
+        rtcSetSceneFlags(built.get(), RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(built.get(), RTC_BUILD_QUALITY_MEDIUM);
+        rtcAttachGeometry(built.get(), geometry.get());
+        rtcCommitScene(built.get());
+        if (rtcGetDeviceError(device.get()) == RTC_ERROR_NONE) lazy_->scene = std::move(built);
+    });
+    if (!lazy_->scene) throw Error(ErrorKind::Runtime, "Embree could not build the watertight scene");
+    return lazy_->scene.get();
 }
 
 void setRay(RTCRayHit& rayHit, const glm::dvec3& origin, const glm::vec3& direction, double tFar) {
@@ -211,21 +226,30 @@ int windingAlong(const PeriodicScene& scene, glm::dvec3 origin, const glm::dvec3
 
 bool insideSolid(const PeriodicScene& scene, const glm::dvec3& point) {
     if (point.z < double(scene.zMin) || point.z > double(scene.zMax)) return false;
-    int votes = 0;
-    for (const auto& ray : kInsideRays)
-        if (windingAlong(scene, point, glm::normalize(glm::dvec3(ray[0], ray[1], ray[2]))) >= 1) ++votes;
-    return 2 * votes > int(kInsideRays.size());
+    // Stops as soon as the majority is settled (3 of 5 either way).
+    constexpr int kCount = int(kInsideRays.size());
+    int inside = 0, outside = 0;
+    for (const auto& ray : kInsideRays) {
+        if (windingAlong(scene, point, glm::normalize(glm::dvec3(ray[0], ray[1], ray[2]))) >= 1)
+            ++inside;
+        else
+            ++outside;
+        if (2 * inside > kCount) return true;
+        if (2 * outside > kCount) return false;
+    }
+    return false;
 }
 
-float distanceAlong(const PeriodicScene& scene, RTCIntersectContext& context, glm::dvec3 origin,
-                    const glm::dvec3& direction, double height, double travelled, unsigned* primitive) {
+float distanceAlong(const PeriodicScene& scene, RTCScene target, RTCIntersectContext& context,
+                    glm::dvec3 origin, const glm::dvec3& direction, double height, double travelled,
+                    unsigned* primitive) {
     const glm::vec3 directionF(direction);
     for (;;) {
         if (leavesMesh(scene, origin, direction)) return kGdmMiss;
-        const Segment next = segment(origin, direction, height, travelled);
+        const Segment next = segment(scene, origin, direction, height, travelled);
         RTCRayHit rayHit;
         setRay(rayHit, origin, directionF, next.tFar);
-        rtcIntersect1(scene.scene.get(), &context, &rayHit);
+        rtcIntersect1(target, &context, &rayHit);
         if (rayHit.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
             if (primitive) *primitive = rayHit.hit.primID;
             return float(travelled + double(rayHit.ray.tfar));

@@ -52,22 +52,57 @@ inline void onEmbreeError(void* userPtr, RTCError code, const char* message) {
             "Embree error " + std::to_string(int(code)) + (message ? std::string(": ") + message : "");
 }
 
-// The periodic solid as one Embree scene (see kReach), with its triangles' outward normals for the
-// inside test.
+struct GeometryRelease {
+    void operator()(RTCGeometry geometry) const { rtcReleaseGeometry(geometry); }
+};
+using GeometryHandle = std::unique_ptr<RTCGeometryTy, GeometryRelease>;
+
+// How buildScene makes the scene that its rays are cast in.
+enum class SceneTest {
+    // Embree's watertight triangle test (RTC_SCENE_FLAG_ROBUST): a ray through an edge shared by two
+    // triangles meets one of them. The exact reference's.
+    Watertight,
+    // Embree's faster test, which is not watertight: a ray through a shared edge may slip between the two
+    // triangles (a crack). The bake's: the inside test is a majority of 5 rays, so one ray through a crack
+    // is outvoted; and a distance ray from outside the solid can only first meet a face that it enters the
+    // solid through, so a first hit on a face that it leaves through shows that it slipped through a crack,
+    // and the bake traces it again in robust() (gdm_bake.cpp). That check needs every face inside the slab
+    // (a ray that slips in must meet a face on its way out), so a mesh that reaches outside
+    // 0 <= z <= H (the slab clips it) gets the watertight test anyway.
+    Fast,
+};
+
+// The periodic solid as an Embree scene (see kReach), with its triangles' outward normals for the inside
+// test.
 struct PeriodicScene {
     DeviceHandle device;
-    SceneHandle scene;
+    GeometryHandle geometry;  // the triangles, attached to `scene` (and to robust())
+    SceneHandle scene;        // watertight unless built with SceneTest::Fast
+    bool watertight = true;
     std::vector<glm::vec3> normals;  // per scene triangle, unnormalised, pointing out of the solid
     float zMin = 0.0f;
     float zMax = 0.0f;
+
+    // A watertight scene of the same triangles: `scene` itself if it is, else one built on first use
+    // (thread-safe). Throws Error(Runtime) if Embree fails to build it.
+    RTCScene robust() const;
+
+private:
+    struct Lazy {
+        std::once_flag once;
+        SceneHandle scene;
+    };
+    std::unique_ptr<Lazy> lazy_ = std::make_unique<Lazy>();
 };
 
 // Throws Error(InvalidInput) naming `what` for a position that is not finite or an index out of range.
 void checkMesh(const SolidMesh& solid, const std::string& what);
 
-// The scene of every translate of `solid` that reaches into the column (see kReach). Embree's errors go to
-// `errors`, which must outlive the scene. Throws Error(Runtime) if Embree fails.
-PeriodicScene buildScene(const SolidMesh& solid, const std::string& what, EmbreeErrors& errors);
+// The scene of every translate of `solid` that reaches into the column (see kReach), with the triangle test
+// `test`. Embree's errors go to `errors`, which must outlive the scene. Throws Error(Runtime) if Embree
+// fails.
+PeriodicScene buildScene(const SolidMesh& solid, const std::string& what, EmbreeErrors& errors,
+                         SceneTest test = SceneTest::Watertight);
 
 // Distance along `direction` from `origin` to where the ray leaves the column [-kReach, 1 + kReach]^2.
 inline double columnExit(const glm::dvec3& origin, const glm::dvec3& direction) {
@@ -107,17 +142,21 @@ inline bool leavesMesh(const PeriodicScene& scene, const glm::dvec3& origin, con
 
 // One segment of a distance ray: from `origin` until it leaves the slab, the column (see kReach) or has run
 // the rest of kGdmBakeMaxTravel. `tColumn` is where it leaves the column, or < 0 where the segment is the
-// ray's last.
+// ray's last. The slab is cut down to the mesh's z range (and a margin): no face lies beyond it, so a ray
+// that gets there is a miss, and Embree need not walk the rest of it.
 struct Segment {
     float tFar;
     double tColumn;
 };
 
-inline Segment segment(const glm::dvec3& origin, const glm::dvec3& direction, double height,
-                       double travelled) {
-    const double tLast = std::min(slabExit(origin, direction, 0.0, height), kGdmBakeMaxTravel - travelled);
+inline Segment segment(const PeriodicScene& scene, const glm::dvec3& origin, const glm::dvec3& direction,
+                       double height, double travelled) {
+    const double margin = 1e-4 * height;
+    const double zLo = std::max(0.0, double(scene.zMin) - margin);
+    const double zHi = std::min(height, double(scene.zMax) + margin);
+    const double tLast = std::min(slabExit(origin, direction, zLo, zHi), kGdmBakeMaxTravel - travelled);
     const double tColumn = columnExit(origin, direction);
-    if (tLast <= tColumn) return {float(tLast), -1.0};
+    if (tLast <= tColumn) return {float(std::max(tLast, 0.0)), -1.0};
     return {float(tColumn + kSegmentOverlap), tColumn};
 }
 
@@ -125,9 +164,9 @@ inline Segment segment(const glm::dvec3& origin, const glm::dvec3& direction, do
 // `travelled` already: traced segment by segment, moved back by whole tiles each time it leaves the column,
 // until it meets a face (the distance), leaves the slab 0 <= z <= height or the mesh's z range for good, or
 // has run kGdmBakeMaxTravel (kGdmMiss). Where it meets a face and `primitive` is given, *primitive is the
-// face's index into scene.normals.
-float distanceAlong(const PeriodicScene& scene, RTCIntersectContext& context, glm::dvec3 origin,
-                    const glm::dvec3& direction, double height, double travelled,
+// face's index into scene.normals. Cast in `target`: scene.scene, or scene.robust().
+float distanceAlong(const PeriodicScene& scene, RTCScene target, RTCIntersectContext& context,
+                    glm::dvec3 origin, const glm::dvec3& direction, double height, double travelled,
                     unsigned* primitive = nullptr);
 
 }  // namespace strata::detail

@@ -6,6 +6,7 @@
 #include "strata/gdm/gdm_svd.h"
 
 #include <gtest/gtest.h>
+#include <Eigen/SVD>
 
 #include <algorithm>
 #include <cmath>
@@ -164,6 +165,43 @@ TEST(GdmSvd, ErrorDoesNotIncreaseWithRank) {
         // At full rank the RMSE is the float rounding (as above): far below a thousandth of a voxel.
         EXPECT_LT(previous, 1e-3) << toString(layout);
     }
+}
+
+TEST(GdmSvd, LargeGramGivesTheLargestSingularValues) {
+    // (x, y) x (z, theta, phi) at 33 x 33 voxels: a 1089 x 2048 matrix whose 1089 x 1089 Gram is past the
+    // size diagonalised whole, so its k largest eigenpairs come from the Lanczos solver. The singular
+    // values must be A's largest, as a full SVD of the explicit matrix gives them, and the maps must give
+    // the optimal error: sum over the values of (A - A_k)^2 = |A|^2 - sum of sigma_i^2 (Eckart-Young).
+    const GdmDims dims{33, 33, 4, 16, 32};
+    const Gdm gdm = makeWavySlabGdm(dims, kHeight);
+    const GdmLayout layout = GdmLayout::XyByZThetaPhi;
+    Eigen::MatrixXd a(Eigen::Index(gdmLayoutRows(dims, layout)), Eigen::Index(gdmLayoutCols(dims, layout)));
+    for (int k = 0; k < dims.nz; ++k)
+        for (int j = 0; j < dims.ny; ++j)
+            for (int i = 0; i < dims.nx; ++i)
+                for (int t = 0; t < dims.ntheta; ++t)
+                    for (int s = 0; s < dims.nphi; ++s) {
+                        const GdmMatrixIndex index = gdmMatrixIndex(dims, layout, i, j, k, t, s);
+                        a(Eigen::Index(index.row), Eigen::Index(index.col)) = substituted(gdm, i, j, k, t, s);
+                    }
+    const Eigen::VectorXd sigma = Eigen::BDCSVD<Eigen::MatrixXd>(a).singularValues();
+    constexpr int kRank = 8;
+    const GdmSvd svd = compressGdm(gdm, kRank, layout);
+    ASSERT_EQ(svd.singularValues.size(), std::size_t(kRank));
+    double kept = 0.0;
+    for (int r = 0; r < kRank; ++r) {
+        // compressGdm reads A's entries as float (rounding 6e-8 of a value) and squares it in the Gram: the
+        // two agree to about 1e-7 of sigma_1, two orders below the gaps between these singular values.
+        EXPECT_NEAR(svd.singularValues[std::size_t(r)], sigma(r), 1e-6 * sigma(0)) << "sigma " << r;
+        if (r > 0) {
+            EXPECT_GT(sigma(r - 1) - sigma(r), 1e-4 * sigma(0)) << "gap below sigma " << r - 1;
+        }
+        kept += sigma(r) * sigma(r);
+    }
+    const double voxel = kHeight / dims.nz;
+    const double optimal = std::sqrt((a.squaredNorm() - kept) / double(a.size())) / voxel;
+    // The maps are float: their rounding adds about 1e-7 of a value, 1e-5 voxels here.
+    EXPECT_NEAR(measureGdmSvd(gdm, svd, {0, 1}).rmseVoxels, optimal, 1e-4);
 }
 
 TEST(GdmSvd, MeasuresAndMemory) {
