@@ -131,10 +131,11 @@ void runGdmBake(const GdmBakeOptions& options) {
     asset.occupancy = gdmOccupancy(raw);
     asset.albedo = std::move(albedo);
     if (options.keepRaw) asset.raw = raw;
+    asset.solid = std::move(solid);  // for the exact reference (strata gdm trace --reference)
     asset.source = source;
     std::ostringstream settings;
     settings << "--size " << options.size << " --dirs " << options.dirs << " --height "
-             << formatNumber(solid.height) << " --rank " << options.rank << " --layout " << options.layout
+             << formatNumber(asset.svd.height) << " --rank " << options.rank << " --layout " << options.layout
              << (options.meso.empty() ? "" : " --seed " + std::to_string(options.seed))
              << (options.keepRaw ? " --keep-raw" : "");
     asset.bake.settings = settings.str();
@@ -142,7 +143,8 @@ void runGdmBake(const GdmBakeOptions& options) {
     asset.bake.date = utcNow();
     writeGdmAsset(options.output, asset, inputs);
     std::cout << "wrote " << options.output.string() << ": gdm.json weights.f32 eigen.f32 occupancy.u8"
-              << (asset.albedo.empty() ? "" : " albedo.rgb8") << (options.keepRaw ? " raw.f32" : "") << "\n";
+              << (asset.albedo.empty() ? "" : " albedo.rgb8") << (options.keepRaw ? " raw.f32" : "")
+              << " solid.obj\n";
 }
 
 void addGdmBakeCommand(CLI::App& gdm) {

@@ -91,12 +91,10 @@ void validateSolidMesh(const SolidMesh& mesh, const std::string& what) {
     }
 }
 
-SolidMesh readSolidObj(const std::filesystem::path& path, double height) {
-    const std::string what = path.string();
+SolidMesh parseSolidObj(const std::string& objText, const std::string& what, double height) {
     refuseHeight(height, what);
-    std::istringstream stream(readTextFile(path));
+    std::istringstream stream(objText);
     SolidMesh mesh;
-    mesh.source = path.filename().string();
     mesh.height = height;
     std::string line;
     int lineNumber = 0;
@@ -144,6 +142,13 @@ SolidMesh readSolidObj(const std::filesystem::path& path, double height) {
     return mesh;
 }
 
+SolidMesh readSolidObj(const std::filesystem::path& path, double height) {
+    refuseHeight(height, path.string());
+    SolidMesh mesh = parseSolidObj(readTextFile(path), path.string(), height);
+    mesh.source = path.filename().string();
+    return mesh;
+}
+
 SolidMesh readSolidVdb(const std::filesystem::path& path, double height) {
     const std::string what = path.string();
     refuseHeight(height, what);
@@ -173,7 +178,7 @@ SolidMesh readSolidVdb(const std::filesystem::path& path, double height) {
                                              " grids, none a float grid of class level set)");
 }
 
-void writeSolidObj(const std::filesystem::path& path, const SolidMesh& mesh) {
+std::string solidObjText(const SolidMesh& mesh) {
     std::string text = "# strata solid mesh: " + mesh.source +
                        ", tile units (CONVENTIONS 8), H = " + formatNumber(mesh.height) + "\n";
     char buffer[96];
@@ -185,7 +190,11 @@ void writeSolidObj(const std::filesystem::path& path, const SolidMesh& mesh) {
         std::snprintf(buffer, sizeof buffer, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
         text += buffer;
     }
-    writeTextFileAtomic(path, text);
+    return text;
+}
+
+void writeSolidObj(const std::filesystem::path& path, const SolidMesh& mesh) {
+    writeTextFileAtomic(path, solidObjText(mesh));
 }
 
 }  // namespace strata

@@ -31,14 +31,21 @@ void validateSolidMesh(const SolidMesh& mesh, const std::string& what);
 // and validateSolidMesh's errors (with the file name) otherwise. Also refuses a height that is not > 0.
 SolidMesh readSolidObj(const std::filesystem::path& path, double height);
 
+// readSolidObj on OBJ text already read: `what` (a file name) starts every message. The mesh's source is
+// left empty.
+SolidMesh parseSolidObj(const std::string& text, const std::string& what, double height);
+
 // Reads the first level-set FloatGrid (class GRID_LEVEL_SET) of a .vdb, in tile units (world space is the
 // tile frame), and meshes its zero isosurface as meshMesostructure does. Throws Error(Io) if the file cannot
 // be opened, Error(InvalidInput) naming the file if it holds no level-set FloatGrid or the mesh fails
 // validateSolidMesh with this height.
 SolidMesh readSolidVdb(const std::filesystem::path& path, double height);
 
-// Writes `v` and `f` lines (1-based, counter-clockwise from outside), 9 significant digits, with a comment
-// naming the source and H. Atomic (writeFileAtomic). Throws Error(Io) if it cannot be written.
+// Writes `v` and `f` lines (1-based, counter-clockwise from outside), 9 significant digits (every float
+// reads back exactly), with a comment naming the source and H. Atomic (writeFileAtomic). Throws Error(Io) if
+// it cannot be written.
 void writeSolidObj(const std::filesystem::path& path, const SolidMesh& mesh);
+// The text writeSolidObj writes.
+std::string solidObjText(const SolidMesh& mesh);
 
 }  // namespace strata
