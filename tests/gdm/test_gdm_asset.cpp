@@ -118,10 +118,11 @@ TEST(GdmAsset, RoundTripIsBitExact) {
     EXPECT_EQ(back.bake.date, "2026-12-04T00:00:00Z");
 }
 
-// tinyAsset with the solid it was (notionally) baked from: a box.
+// tinyAsset with the solid it was (notionally) baked from: a box crossing the tile side x = 1 (it wraps,
+// CONVENTIONS §8) and poking out of the shell's top (clipped).
 GdmAsset tinyAssetWithSolid() {
     GdmAsset asset = tinyAsset(false);
-    asset.solid = boxMesh({0.2f, 0.1f, 0.0f}, {0.8f, 0.7f, 0.1f}, asset.svd.height);
+    asset.solid = boxMesh({0.6f, 0.1f, 0.0f}, {1.3f, 0.7f, 0.3f}, asset.svd.height);
     return asset;
 }
 

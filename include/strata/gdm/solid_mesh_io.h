@@ -1,5 +1,6 @@
 // Reading, checking and writing a mesostructure given as a mesh (CONVENTIONS §8): OBJ in tile units (x, y
-// in [0, 1], z in [0, H]), or an OpenVDB level set.
+// in [0, 1], z in [0, H]; geometry that crosses a tile side wraps, geometry outside 0 <= z <= H is clipped
+// away), or an OpenVDB level set.
 #pragma once
 
 #include "strata/gdm/solid_mesh.h"
@@ -9,8 +10,13 @@
 
 namespace strata {
 
-// How far outside the tile box [0, 1]^2 x [0, H] a vertex may lie (tile widths): a mesh written with 6
-// significant digits, or clamped in float, stays well inside it.
+// How far outside the tile box [0, 1]^2 x [0, H] a vertex may lie, in tile widths: geometry that crosses a
+// tile side wraps and geometry outside 0 <= z <= H is clipped away (CONVENTIONS §8), but a vertex further
+// out than this is refused (it would only multiply the translates of the bake's periodic scene and
+// lengthen the rays of its inside test).
+inline constexpr double kSolidMeshReach = 1.0;
+// Rounding allowed beyond those bounds (and in the test that the mesh meets the tile box), tile widths: a
+// mesh written with 6 significant digits, or clamped in float, stays well inside it.
 inline constexpr double kSolidMeshTolerance = 1e-4;
 
 // Checks what the GDM bake needs of a solid mesh, and throws Error(InvalidInput) whose message starts with
@@ -18,7 +24,12 @@ inline constexpr double kSolidMeshTolerance = 1e-4;
 //   - empty: no triangles;
 //   - a vertex index out of range, or a triangle with a repeated vertex (degenerate);
 //   - a vertex that is not finite (NaN, inf);
-//   - a vertex outside the tile box, by more than kSolidMeshTolerance;
+//   - a vertex more than kSolidMeshReach outside the tile box [0, 1]^2 x [0, H] (x, y in [-1, 2], z in
+//     [-1, H + 1]), by more than kSolidMeshTolerance. Closer, it is accepted: the bake wraps what crosses
+//     a tile side (the solid is the union of the mesh's integer translates) and clips what lies outside
+//     0 <= z <= H;
+//   - a mesh whose vertices' bounding box does not meet the tile box at all ("lies entirely outside the
+//     tile"; one that lies in a neighbouring tile must be moved by whole tiles);
 //   - open: an edge used by one triangle only;
 //   - non-manifold: an edge used by more than two triangles;
 //   - inconsistently oriented: two triangles that use an edge in the same direction (every edge must be
