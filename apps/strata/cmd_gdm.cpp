@@ -1,7 +1,8 @@
 // strata gdm bake (--meso NAME | --mesh F.obj | --vdb F.vdb) [--height H] [--size NXxNYxNZ] [--dirs NTxNP]
 //                 [--rank K] [--layout xy-phi|xyz|xy] [--keep-raw] [--seed N] -o DIR
 //
-// `strata gdm` is a group: each of its subcommands registers itself on the `gdm` app (addGdmCommand below).
+// `strata gdm` is a group: each of its subcommands registers itself on the `gdm` app (addGdmCommand below);
+// `strata gdm trace` lives in cmd_gdm_trace.cpp.
 #include "cli_common.h"
 
 #include "strata/core/error.h"
@@ -170,11 +171,11 @@ void addGdmBakeCommand(CLI::App& gdm) {
 }  // namespace
 
 void addGdmCommand(CLI::App& app) {
-    CLI::App* gdm = app.add_subcommand("gdm", "Generalized displacement maps: bake an asset");
+    CLI::App* gdm = app.add_subcommand(
+        "gdm", "Generalized displacement maps: bake an asset, trace its verification scene");
     gdm->require_subcommand(1);
     addGdmBakeCommand(*gdm);
-    // `strata gdm trace` (the exact CPU reference) registers here, from its own cmd_gdm_trace.cpp:
-    // declare addGdmTraceCommand(CLI::App& gdm) in cli_common.h and call it on `*gdm`.
+    addGdmTraceCommand(*gdm);
 }
 
 }  // namespace strata::cli
