@@ -19,8 +19,8 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
-#include <optional>
 #include <sstream>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -72,7 +72,8 @@ std::vector<fs::path> assetFiles(const fs::path& dir) {
 }
 
 void runGdmTrace(const GdmTraceOptions& options) {
-    // The command line first, then the files: nothing is read before the flags are known to be good.
+    // The flags first, then the asset's directory: nothing is read before both are known to be good. An -o
+    // that is one of the asset's files is refused as such (exit 2), before the extension check (exit 1).
     if (options.asset.empty()) throw Error(ErrorKind::Usage, "gdm trace: give the GDM asset directory DIR");
     if (options.output.empty())
         throw Error(ErrorKind::Usage, "gdm trace: give --output uvw, shadow or mask (CONVENTIONS §8)");
