@@ -26,8 +26,9 @@ void addCompareCommand(CLI::App& app);
 void addDualDepthCommand(CLI::App& app);
 void addConeMapCommand(CLI::App& app);
 void addMesoCommand(CLI::App& app);
-// `strata gdm` and its subcommands (cmd_gdm.cpp registers `bake`; others add theirs there).
+// `strata gdm` and its subcommands (cmd_gdm.cpp registers `bake`, and `trace` from cmd_gdm_trace.cpp).
 void addGdmCommand(CLI::App& app);
+void addGdmTraceCommand(CLI::App& gdm);
 
 // A progress line on stderr, only when stderr is a terminal (pipes and CI logs stay clean).
 void progress(const std::string& message);

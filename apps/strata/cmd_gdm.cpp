@@ -1,7 +1,8 @@
 // strata gdm bake (--meso NAME | --mesh F.obj | --vdb F.vdb) [--height H] [--size NXxNYxNZ] [--dirs NTxNP]
 //                 [--rank K] [--layout xy-phi|xyz|xy] [--keep-raw] [--seed N] -o DIR
 //
-// `strata gdm` is a group: each of its subcommands registers itself on the `gdm` app (addGdmCommand below).
+// `strata gdm` is a group: each of its subcommands registers itself on the `gdm` app (addGdmCommand below);
+// `strata gdm trace` lives in cmd_gdm_trace.cpp.
 #include "cli_common.h"
 
 #include "strata/core/error.h"
@@ -131,10 +132,11 @@ void runGdmBake(const GdmBakeOptions& options) {
     asset.occupancy = gdmOccupancy(raw);
     asset.albedo = std::move(albedo);
     if (options.keepRaw) asset.raw = raw;
+    asset.solid = std::move(solid);  // for the exact reference (strata gdm trace --reference)
     asset.source = source;
     std::ostringstream settings;
     settings << "--size " << options.size << " --dirs " << options.dirs << " --height "
-             << formatNumber(solid.height) << " --rank " << options.rank << " --layout " << options.layout
+             << formatNumber(asset.svd.height) << " --rank " << options.rank << " --layout " << options.layout
              << (options.meso.empty() ? "" : " --seed " + std::to_string(options.seed))
              << (options.keepRaw ? " --keep-raw" : "");
     asset.bake.settings = settings.str();
@@ -142,7 +144,8 @@ void runGdmBake(const GdmBakeOptions& options) {
     asset.bake.date = utcNow();
     writeGdmAsset(options.output, asset, inputs);
     std::cout << "wrote " << options.output.string() << ": gdm.json weights.f32 eigen.f32 occupancy.u8"
-              << (asset.albedo.empty() ? "" : " albedo.rgb8") << (options.keepRaw ? " raw.f32" : "") << "\n";
+              << (asset.albedo.empty() ? "" : " albedo.rgb8") << (options.keepRaw ? " raw.f32" : "")
+              << " solid.obj\n";
 }
 
 void addGdmBakeCommand(CLI::App& gdm) {
@@ -168,11 +171,11 @@ void addGdmBakeCommand(CLI::App& gdm) {
 }  // namespace
 
 void addGdmCommand(CLI::App& app) {
-    CLI::App* gdm = app.add_subcommand("gdm", "Generalized displacement maps: bake an asset");
+    CLI::App* gdm = app.add_subcommand(
+        "gdm", "Generalized displacement maps: bake an asset, trace its verification scene");
     gdm->require_subcommand(1);
     addGdmBakeCommand(*gdm);
-    // `strata gdm trace` (the exact CPU reference) registers here, from its own cmd_gdm_trace.cpp:
-    // declare addGdmTraceCommand(CLI::App& gdm) in cli_common.h and call it on `*gdm`.
+    addGdmTraceCommand(*gdm);
 }
 
 }  // namespace strata::cli

@@ -94,6 +94,11 @@ void printGdm(const fs::path& dir, bool asJson) {
               << "\n";
     std::cout << "  raw.f32       : " << (asset.raw ? std::to_string(raw) + " bytes" : std::string("none"))
               << "\n";
+    std::cout << "  solid.obj     : "
+              << (asset.solid ? std::to_string(asset.solid->triangles.size()) + " triangles, " +
+                                    std::to_string(asset.solid->positions.size()) + " vertices"
+                              : std::string("none (bake again for `strata gdm trace --reference`)"))
+              << "\n";
     std::cout << "  memory        : " << mib(svd.mapBytes()) << " maps, " << mib(asset.occupancy.size())
               << " occupancy, raw GDM " << mib(d.valueCount() * sizeof(float)) << "\n";
 }

@@ -18,8 +18,6 @@ namespace fs = std::filesystem;
 
 namespace strata::cli {
 
-namespace {
-
 glm::dvec3 parseVec3(const std::string& text, const char* flag) {
     glm::dvec3 v;
     std::istringstream in(text);
@@ -30,6 +28,8 @@ glm::dvec3 parseVec3(const std::string& text, const char* flag) {
                     std::string(flag) + ": expected X,Y,Z (three numbers), got '" + text + "'");
     return v;
 }
+
+namespace {
 
 bool parseOnOff(const std::string& text, const char* flag) {
     if (text == "on") return true;

@@ -1,10 +1,12 @@
-// What `strata render` and `strata compare` share: the scene flags, and rendering a scene headless.
+// What `strata render` and `strata compare` share: the scene flags, and rendering a scene headless; the
+// vector flags' parser is `strata gdm trace`'s too.
 #pragma once
 
 #include "strata/image/image.h"
 #include "strata/scene/scene.h"
 
 #include <CLI/CLI.hpp>
+#include <glm/vec3.hpp>
 
 #include <filesystem>
 #include <optional>
@@ -37,6 +39,10 @@ struct SceneFlags {
     std::string light;  // "X,Y,Z"
     std::string output;
 };
+
+// A vector flag such as --eye 0.5,-1,1: three finite numbers separated by commas. Throws Error(Usage)
+// "<flag>: expected X,Y,Z (three numbers), got '<text>'" otherwise.
+glm::dvec3 parseVec3(const std::string& text, const char* flag);
 
 // Adds the flags to `command` (and the optional positional SCENE.json).
 void addSceneFlags(CLI::App& command, SceneFlags& flags);

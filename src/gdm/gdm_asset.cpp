@@ -4,6 +4,7 @@
 #include "strata/core/error.h"
 #include "strata/core/file.h"
 #include "strata/core/version.h"
+#include "strata/gdm/solid_mesh_io.h"
 #include "strata/image/quantize.h"
 
 #include "core/json_reader.h"
@@ -29,6 +30,9 @@ static_assert(std::endian::native == std::endian::little, "GDM asset payloads ar
 namespace {
 
 constexpr const char* kConvention = "CONVENTIONS §8";
+// The solid mesh: OBJ text, not an array, so its sidecar entry is {"file", "type": "obj", "bytes"}.
+constexpr const char* kSolidKey = "solid";
+constexpr const char* kSolidFile = "solid.obj";
 
 struct Payload {
     std::string key;   // the sidecar's key under "payloads"
@@ -135,6 +139,16 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
     if (asset.raw && (asset.raw->dims != svd.dims || asset.raw->height != svd.height ||
                       asset.raw->values.size() != svd.dims.valueCount()))
         throw Error(ErrorKind::InvalidInput, what + ": the raw GDM's dims or H differ from the SVD's");
+    std::string solidText;
+    if (asset.solid) {
+        if (asset.solid->height != svd.height)
+            throw Error(ErrorKind::InvalidInput, what + ": the solid's H " +
+                                                     formatNumber(asset.solid->height) +
+                                                     " differs from the SVD's " + formatNumber(svd.height));
+        // What could not be read back is not written.
+        validateSolidMesh(*asset.solid, what + ": the solid");
+        solidText = solidObjText(*asset.solid);
+    }
 
     std::error_code ec;
     if (fs::exists(dir, ec)) {
@@ -174,6 +188,7 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
                         {"endian", "little"},
                         {"shape", p.shape},
                         {"bytes", p.bytes()}};
+    if (asset.solid) files[kSolidKey] = {{"file", kSolidFile}, {"type", "obj"}, {"bytes", solidText.size()}};
     sidecar["payloads"] = files;
 
     detail::StagingDir staging(dir);
@@ -188,6 +203,11 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
         writeBytes(staging.path() / p.file, data, p.bytes());
         names.push_back(p.file);
     }
+    if (asset.solid) {
+        refuseToOverwriteInputs(dir / kSolidFile, inputs);
+        writeTextFileAtomic(staging.path() / kSolidFile, solidText);
+        names.emplace_back(kSolidFile);
+    }
     refuseToOverwriteInputs(dir / kGdmAssetSidecar, inputs);
     writeTextFileAtomic(staging.path() / kGdmAssetSidecar, sidecar.dump(2) + "\n");
     names.emplace_back(kGdmAssetSidecar);
@@ -199,6 +219,7 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
     fs::remove(dir / kGdmAssetSidecar, ec);
     if (!asset.raw) fs::remove(dir / "raw.f32", ec);
     if (asset.albedo.empty()) fs::remove(dir / "albedo.rgb8", ec);
+    if (!asset.solid) fs::remove(dir / kSolidFile, ec);
     for (const std::string& name : names) {
         fs::rename(staging.path() / name, dir / name, ec);
         if (ec)
@@ -327,6 +348,24 @@ GdmAsset readGdmAsset(const fs::path& dir) {
                 if (o > 1)
                     throw Error(ErrorKind::InvalidInput, path.string() + ": occupancy values must be 0 or 1");
         }
+    }
+    if (const json* entry = files.object(kSolidKey)) {
+        const std::string where = std::string("payloads.") + kSolidKey;
+        detail::JsonObjectReader e(*entry, where, file);
+        if (e.string("file") != kSolidFile)
+            e.fail(where + ".file", std::string("must be \"") + kSolidFile + "\"");
+        if (e.string("type") != "obj") e.fail(where + ".type", "must be \"obj\"");
+        const auto bytes = e.integer("bytes", 1, 1LL << 62);
+        if (!bytes) e.fail(where + ".bytes", "missing (an integer >= 1)");
+        e.rejectUnknown();
+        const fs::path path = dir / kSolidFile;
+        const std::string text = readTextFile(path);
+        if (static_cast<long long>(text.size()) != *bytes)
+            throw Error(ErrorKind::InvalidInput, path.string() + ": " + std::to_string(text.size()) +
+                                                     " bytes, the sidecar's " + where + " says " +
+                                                     std::to_string(*bytes) + " (truncated or wrong file)");
+        asset.solid = parseSolidObj(text, path.string(), svd.height);
+        asset.solid->source = asset.source;
     }
     files.rejectUnknown();
     return asset;

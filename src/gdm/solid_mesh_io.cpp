@@ -6,11 +6,13 @@
 #include "strata/core/file.h"
 
 #include <openvdb/io/File.h>
+#include <glm/common.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <unordered_map>
 
@@ -40,17 +42,39 @@ void validateSolidMesh(const SolidMesh& mesh, const std::string& what) {
     };
     refuseHeight(mesh.height, what);
     if (mesh.triangles.empty()) fail("the mesh is empty (no triangles)");
+    // CONVENTIONS §8: geometry that crosses a tile side wraps and geometry outside 0 <= z <= H is clipped
+    // away, so a vertex may lie outside the tile box, but no more than kSolidMeshReach tile widths (more
+    // would only multiply the translates the bake's periodic scene holds, and lengthen its inside test's
+    // rays, which run through the mesh's whole z range).
     const double tol = kSolidMeshTolerance;
+    const double reach = kSolidMeshReach + tol;
+    const std::string tile = "the tile [0, 1] x [0, 1] x [0, " + formatNumber(mesh.height) + "]";
+    glm::dvec3 lo(std::numeric_limits<double>::infinity());
+    glm::dvec3 hi(-std::numeric_limits<double>::infinity());
     for (std::size_t n = 0; n < mesh.positions.size(); ++n) {
         const glm::vec3& p = mesh.positions[n];
         const glm::dvec3 q(p);
         if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
             fail("vertex " + std::to_string(n + 1) + " is not finite " + vertexText(p));
-        if (q.x < -tol || q.x > 1.0 + tol || q.y < -tol || q.y > 1.0 + tol || q.z < -tol ||
-            q.z > mesh.height + tol)
-            fail("vertex " + std::to_string(n + 1) + " " + vertexText(p) +
-                 " lies outside the tile [0, 1] x [0, 1] x [0, " + formatNumber(mesh.height) + "]");
+        const auto outside = [&](double value, double tileLo, double tileHi, const char* axis,
+                                 const char* why) {
+            if (value >= tileLo - reach && value <= tileHi + reach) return;
+            fail("vertex " + std::to_string(n + 1) + " " + vertexText(p) + " lies more than " +
+                 formatNumber(kSolidMeshReach) + " tile width outside " + tile + " in " + axis + " (" + axis +
+                 " must be in [" + formatNumber(tileLo - kSolidMeshReach) + ", " +
+                 formatNumber(tileHi + kSolidMeshReach) + "]; " + why + ")");
+        };
+        const char* wraps = "geometry that crosses a tile side wraps: move the mesh by whole tiles";
+        outside(q.x, 0.0, 1.0, "x", wraps);
+        outside(q.y, 0.0, 1.0, "y", wraps);
+        outside(q.z, 0.0, mesh.height, "z", "geometry outside 0 <= z <= H is clipped away: cut it off");
+        lo = glm::min(lo, q);
+        hi = glm::max(hi, q);
     }
+    if (hi.x < -tol || lo.x > 1.0 + tol || hi.y < -tol || lo.y > 1.0 + tol || hi.z < -tol ||
+        lo.z > mesh.height + tol)
+        fail("the mesh lies entirely outside " + tile + " (its bounding box " + vertexText(glm::vec3(lo)) +
+             " - " + vertexText(glm::vec3(hi)) + " does not meet it)");
     // Directed edges: each must occur once, and its reverse once.
     std::unordered_map<std::uint64_t, std::size_t> directed;  // (a, b) -> triangle
     directed.reserve(3 * mesh.triangles.size());
@@ -91,12 +115,10 @@ void validateSolidMesh(const SolidMesh& mesh, const std::string& what) {
     }
 }
 
-SolidMesh readSolidObj(const std::filesystem::path& path, double height) {
-    const std::string what = path.string();
+SolidMesh parseSolidObj(const std::string& objText, const std::string& what, double height) {
     refuseHeight(height, what);
-    std::istringstream stream(readTextFile(path));
+    std::istringstream stream(objText);
     SolidMesh mesh;
-    mesh.source = path.filename().string();
     mesh.height = height;
     std::string line;
     int lineNumber = 0;
@@ -144,6 +166,13 @@ SolidMesh readSolidObj(const std::filesystem::path& path, double height) {
     return mesh;
 }
 
+SolidMesh readSolidObj(const std::filesystem::path& path, double height) {
+    refuseHeight(height, path.string());
+    SolidMesh mesh = parseSolidObj(readTextFile(path), path.string(), height);
+    mesh.source = path.filename().string();
+    return mesh;
+}
+
 SolidMesh readSolidVdb(const std::filesystem::path& path, double height) {
     const std::string what = path.string();
     refuseHeight(height, what);
@@ -173,7 +202,7 @@ SolidMesh readSolidVdb(const std::filesystem::path& path, double height) {
                                              " grids, none a float grid of class level set)");
 }
 
-void writeSolidObj(const std::filesystem::path& path, const SolidMesh& mesh) {
+std::string solidObjText(const SolidMesh& mesh) {
     std::string text = "# strata solid mesh: " + mesh.source +
                        ", tile units (CONVENTIONS 8), H = " + formatNumber(mesh.height) + "\n";
     char buffer[96];
@@ -185,7 +214,11 @@ void writeSolidObj(const std::filesystem::path& path, const SolidMesh& mesh) {
         std::snprintf(buffer, sizeof buffer, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
         text += buffer;
     }
-    writeTextFileAtomic(path, text);
+    return text;
+}
+
+void writeSolidObj(const std::filesystem::path& path, const SolidMesh& mesh) {
+    writeTextFileAtomic(path, solidObjText(mesh));
 }
 
 }  // namespace strata

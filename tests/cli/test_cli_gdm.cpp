@@ -32,12 +32,19 @@ TEST(CliGdm, BakesAReadableAssetThatInfoDescribes) {
     EXPECT_GT(inside, 0u);  // the grid's rods fill some voxel centres, not all
     EXPECT_LT(inside, asset.occupancy.size());
     EXPECT_EQ(asset.albedo.size(), asset.occupancy.size() * 3);  // a built-in has colours
+    ASSERT_TRUE(asset.solid.has_value());                        // always stored, for `gdm trace --reference`
+    EXPECT_EQ(asset.solid->height, asset.svd.height);
+    EXPECT_GT(asset.solid->triangles.size(), 0u);
 
     const auto info = runCli("info " + quoted(dir / "out"));
     ASSERT_EQ(info.exitCode, 0) << info.output;
     EXPECT_NE(info.output.find("GDM asset"), std::string::npos) << info.output;
     EXPECT_NE(info.output.find("16x16x4 voxels, 4x8 directions"), std::string::npos) << info.output;
     EXPECT_NE(info.output.find("meso grid"), std::string::npos) << info.output;
+    EXPECT_NE(
+        info.output.find("solid.obj     : " + std::to_string(asset.solid->triangles.size()) + " triangles"),
+        std::string::npos)
+        << info.output;
 }
 
 TEST(CliGdm, ErrorsAreDocumentedCodesAndWriteNothing) {

@@ -1,9 +1,11 @@
-// The GDM asset: a bit-exact round trip, every corruption refused naming the file, nothing left behind.
+// The GDM asset: a bit-exact round trip, every corruption refused naming the file, nothing left behind; the
+// optional solid.obj (the solid as baked) and assets without it.
 #include "strata/gdm/gdm_asset.h"
 
 #include "strata/core/error.h"
 #include "strata/image/quantize.h"
 
+#include "test_solids.h"
 #include "test_support.h"
 
 #include <gtest/gtest.h>
@@ -114,6 +116,113 @@ TEST(GdmAsset, RoundTripIsBitExact) {
     EXPECT_EQ(back.bake.settings, "--size 2x2x2");
     EXPECT_EQ(back.bake.seconds, 0.5);
     EXPECT_EQ(back.bake.date, "2026-12-04T00:00:00Z");
+}
+
+// tinyAsset with the solid it was (notionally) baked from: a box crossing the tile side x = 1 (it wraps,
+// CONVENTIONS §8) and poking out of the shell's top (clipped).
+GdmAsset tinyAssetWithSolid() {
+    GdmAsset asset = tinyAsset(false);
+    asset.solid = boxMesh({0.6f, 0.1f, 0.0f}, {1.3f, 0.7f, 0.3f}, asset.svd.height);
+    return asset;
+}
+
+TEST(GdmAsset, SolidRoundTripsExactly) {
+    test::ScratchDir dir("gdm-asset-solid");
+    const GdmAsset asset = tinyAssetWithSolid();
+    writeGdmAsset(dir / "a", asset);
+    EXPECT_EQ(test::countEntries(dir / "a"), 5);  // gdm.json, weights, eigen, occupancy, solid.obj
+    const std::string sidecar = readText(dir / "a" / "gdm.json");
+    EXPECT_NE(sidecar.find("\"solid\""), std::string::npos) << sidecar;
+    EXPECT_NE(sidecar.find("\"type\": \"obj\""), std::string::npos) << sidecar;
+    const GdmAsset back = readGdmAsset(dir / "a");
+    ASSERT_TRUE(back.solid.has_value());
+    EXPECT_EQ(back.solid->positions, asset.solid->positions);  // %.9g round-trips every float
+    EXPECT_EQ(back.solid->triangles, asset.solid->triangles);
+    EXPECT_EQ(back.solid->height, asset.svd.height);
+    EXPECT_EQ(back.solid->source, "test");  // the asset's source, for messages
+    // Rewritten without it, the old solid.obj goes.
+    writeGdmAsset(dir / "a", tinyAsset(false));
+    EXPECT_EQ(test::countEntries(dir / "a"), 4);
+    EXPECT_FALSE(readGdmAsset(dir / "a").solid.has_value());
+}
+
+TEST(GdmAsset, AssetWithoutSolidStillReads) {
+    // An asset written before solid.obj existed: the same version 1 sidecar, no payloads.solid.
+    test::ScratchDir dir("gdm-asset-nosolid");
+    writeGdmAsset(dir / "a", tinyAsset(true));
+    EXPECT_EQ(readText(dir / "a" / "gdm.json").find("solid"), std::string::npos);
+    const GdmAsset back = readGdmAsset(dir / "a");
+    EXPECT_FALSE(back.solid.has_value());
+    EXPECT_TRUE(back.raw.has_value());
+}
+
+TEST(GdmAsset, SolidThatCouldNotBeReadBackIsNotWritten) {
+    test::ScratchDir dir("gdm-asset-solid-bad");
+    GdmAsset asset = tinyAssetWithSolid();
+    asset.solid->height = 0.5;  // not the SVD's H
+    std::string message = errorOf([&] { writeGdmAsset(dir / "a", asset); }, ErrorKind::InvalidInput);
+    EXPECT_NE(message.find("H 0.5"), std::string::npos) << message;
+    asset = tinyAssetWithSolid();
+    asset.solid->triangles.pop_back();  // open
+    message = errorOf([&] { writeGdmAsset(dir / "a", asset); }, ErrorKind::InvalidInput);
+    EXPECT_NE(message.find("the solid: open"), std::string::npos) << message;
+    EXPECT_EQ(test::countEntries(dir.path()), 0);
+}
+
+TEST(GdmAsset, MissingOrCorruptSolidIsRefusedNamingIt) {
+    test::ScratchDir dir("gdm-asset-solid-corrupt");
+    const fs::path a = dir / "a";
+    writeGdmAsset(a, tinyAssetWithSolid());
+    const std::string sidecar = readText(a / "gdm.json");
+    const std::string obj = readText(a / "solid.obj");
+    auto refused = [&](const std::string& expect, ErrorKind kind = ErrorKind::InvalidInput) {
+        const std::string message = errorOf([&] { readGdmAsset(a); }, kind);
+        EXPECT_NE(message.find(expect), std::string::npos) << message;
+    };
+    const std::string file = (a / "solid.obj").string();
+
+    // Missing: unreadable is I/O, naming the file.
+    fs::rename(a / "solid.obj", dir / "solid.obj");
+    refused(file, ErrorKind::Io);
+    fs::rename(dir / "solid.obj", a / "solid.obj");
+    // Truncated, or longer than the sidecar says: the size is checked first.
+    writeText(a / "solid.obj", obj.substr(0, obj.size() - 1));
+    refused(file + ": " + std::to_string(obj.size() - 1) + " bytes");
+    writeText(a / "solid.obj", obj + "\n");
+    refused(file + ": " + std::to_string(obj.size() + 1) + " bytes");
+    // The same size, but a face turned round: validateSolidMesh's refusal, naming the file.
+    std::string flipped = obj;
+    const auto face = flipped.find("f 1 3 4");
+    ASSERT_NE(face, std::string::npos) << obj;
+    flipped.replace(face, 7, "f 1 4 3");
+    writeText(a / "solid.obj", flipped);
+    refused(file + ": inconsistently oriented");
+    // A malformed line: the file and line number.
+    std::string malformed = obj;
+    const auto vertex = malformed.find("\nv ");  // line 2, after the comment
+    ASSERT_NE(vertex, std::string::npos) << obj;
+    malformed[vertex + 3] = 'x';
+    writeText(a / "solid.obj", malformed);
+    refused(file + ":2: not a number");
+    writeText(a / "solid.obj", obj);
+    EXPECT_NO_THROW(readGdmAsset(a));
+
+    // The sidecar's entry: type, file name, bytes, unknown keys.
+    auto edit = [&](const std::string& from, const std::string& to) {
+        std::string text = sidecar;
+        const auto at = text.find(from);
+        ASSERT_NE(at, std::string::npos) << from;
+        text.replace(at, from.size(), to);
+        writeText(a / "gdm.json", text);
+    };
+    edit("\"type\": \"obj\"", "\"type\": \"ply\"");
+    refused("gdm.json: payloads.solid.type");
+    edit("\"file\": \"solid.obj\"", "\"file\": \"other.obj\"");
+    refused("gdm.json: payloads.solid.file");
+    edit("\"type\": \"obj\"", "\"type\": \"obj\", \"shape\": [1]");
+    refused("gdm.json: payloads.solid.shape: unknown key");
+    writeText(a / "gdm.json", sidecar);
+    EXPECT_NO_THROW(readGdmAsset(a));
 }
 
 TEST(GdmAsset, RewritingWithoutRawDropsIt) {

@@ -3,8 +3,10 @@
 // the periodicity of the result.
 #include "strata/core/error.h"
 #include "strata/gdm/gdm_bake.h"
+#include "strata/gdm/solid_mesh_io.h"
 
 #include "test_solids.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -245,6 +247,79 @@ TEST(GdmBake, PeriodicShiftsGiveTheSameBake) {
     // Not a vacuous comparison: the bake has hits, misses and inside voxels.
     EXPECT_GT(misses, 0);
     EXPECT_GT(zeros, 0);
+}
+
+// Two closed meshes as one (a solid of separate parts).
+SolidMesh joined(SolidMesh a, const SolidMesh& b) {
+    const auto offset = std::uint32_t(a.positions.size());
+    a.positions.insert(a.positions.end(), b.positions.begin(), b.positions.end());
+    for (const auto& t : b.triangles) a.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+    return a;
+}
+
+// The mesh as `strata gdm bake --mesh` reads it: written as OBJ, read back and checked (validateSolidMesh).
+SolidMesh throughObj(const SolidMesh& mesh) {
+    test::ScratchDir dir("gdm-bake-obj");
+    writeSolidObj(dir / "mesh.obj", mesh);
+    return readSolidObj(dir / "mesh.obj", mesh.height);
+}
+
+// Expects two bakes to agree value for value (to the float tolerance); returns the number of inside values
+// (0), of misses and of hits, so that a caller can check the comparison is not vacuous.
+std::array<int, 3> expectSameBake(const Gdm& a, const Gdm& b) {
+    std::array<int, 3> counts{};
+    EXPECT_EQ(a.values.size(), b.values.size());
+    for (std::size_t n = 0; n < a.values.size() && n < b.values.size(); ++n) {
+        if (std::isinf(a.values[n]))
+            EXPECT_EQ(b.values[n], kInf) << n;
+        else
+            EXPECT_NEAR(b.values[n], a.values[n], kFloatTolerance) << n;
+        ++counts[a.values[n] == 0.0f ? 0 : std::isinf(a.values[n]) ? 1 : 2];
+    }
+    return counts;
+}
+
+TEST(GdmBake, BoxCrossingASideBakesLikeItsTwoWrappedPieces) {
+    // CONVENTIONS §8: geometry that crosses x = 1 wraps. The box [0.6, 1.3] x [0.2, 0.7] x [0, 0.1] (accepted
+    // by readSolidObj: it lies less than a tile width out) is the same periodic solid as its two pieces cut
+    // at the side, [0.6, 1] and [0, 0.3] in x, and as the box moved a tile back, [-0.4, 0.3]. Box sides lie
+    // between voxel centres ((i + .5) / 10), the top (0.1) between layers.
+    const double height = 0.25;
+    const GdmDims dims{10, 10, 4, 8, 16};
+    const Gdm crossing = bakeGdm(throughObj(boxMesh({0.6f, 0.2f, 0}, {1.3f, 0.7f, 0.1f}, height)), dims);
+    const Gdm movedBack = bakeGdm(throughObj(boxMesh({-0.4f, 0.2f, 0}, {0.3f, 0.7f, 0.1f}, height)), dims);
+    const Gdm pieces = bakeGdm(throughObj(joined(boxMesh({0.6f, 0.2f, 0}, {1.0f, 0.7f, 0.1f}, height),
+                                                 boxMesh({0.0f, 0.2f, 0}, {0.3f, 0.7f, 0.1f}, height))),
+                               dims);
+    const auto counts = expectSameBake(pieces, crossing);
+    expectSameBake(pieces, movedBack);
+    EXPECT_GT(counts[0], 0);
+    EXPECT_GT(counts[1], 0);
+    EXPECT_GT(counts[2], 0);
+    // The wrapped piece is solid: voxel (1, 4, 0), at (0.15, 0.45, 0.03), lies inside it.
+    for (int t = 0; t < dims.ntheta; ++t) EXPECT_EQ(crossing.at(1, 4, 0, t, 0), 0.0f);
+    // Straight-ish down from above the wrapped piece, voxel (1, 4, 3) at z = 0.21875 meets its top at 0.1.
+    const glm::dvec3 down = gdmDirection(dims, dims.ntheta - 1, 0);
+    EXPECT_NEAR(crossing.at(1, 4, 3, dims.ntheta - 1, 0), (0.21875 - 0.1) / -down.z, kFloatTolerance);
+}
+
+TEST(GdmBake, BoxOutOfTheShellBakesLikeTheClippedBox) {
+    // CONVENTIONS §8: geometry outside 0 <= z <= H is clipped away. A box poking out of the top (z up to
+    // H + 0.35) or the bottom (down to -0.3) bakes like the box cut at the slab.
+    const double height = 0.25;
+    const GdmDims dims{10, 10, 4, 8, 16};
+    const Gdm above = bakeGdm(throughObj(boxMesh({0.2f, 0.3f, 0.12f}, {0.7f, 0.8f, 0.6f}, height)), dims);
+    const Gdm cutTop = bakeGdm(throughObj(boxMesh({0.2f, 0.3f, 0.12f}, {0.7f, 0.8f, 0.25f}, height)), dims);
+    const auto counts = expectSameBake(cutTop, above);
+    EXPECT_GT(counts[0], 0);
+    EXPECT_GT(counts[1], 0);
+    EXPECT_GT(counts[2], 0);
+    const Gdm below = bakeGdm(throughObj(boxMesh({0.2f, 0.3f, -0.3f}, {0.7f, 0.8f, 0.12f}, height)), dims);
+    const Gdm cutBottom = bakeGdm(throughObj(boxMesh({0.2f, 0.3f, 0.0f}, {0.7f, 0.8f, 0.12f}, height)), dims);
+    expectSameBake(cutBottom, below);
+    // Up from under the box, voxel (4, 5, 1) at z = 0.09375 meets its bottom at 0.12.
+    const glm::dvec3 up = gdmDirection(dims, 0, 0);
+    EXPECT_NEAR(above.at(4, 5, 1, 0, 0), (0.12 - 0.09375) / up.z, kFloatTolerance);
 }
 
 TEST(GdmBake, ReportsProgressAndCancelsOnAnException) {

@@ -190,16 +190,51 @@ TEST(SolidObj, RefusesEachBadMeshNamingFileAndElement) {
     objError(
         "v 0.1 0.1 0.01\nv 0.9 0.1 0.01\nv 0.5 0.9 0.01\nv 0.5 0.4 nan\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n",
         "vertex 4 is not finite");
+    // CONVENTIONS §8 wraps and clips what lies outside the tile box
+    // (SolidObj.AcceptsGeometryThatWrapsOrIsClipped), up to one tile width out.
     objError(
-        "v 0.1 0.1 0.01\nv 0.9 0.1 0.01\nv 0.5 0.9 0.01\nv 0.5 0.4 0.3\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n",
-        "vertex 4 (0.5, 0.4, 0.3) lies outside the tile");
+        "v 0.1 0.1 0.01\nv 3 0.1 0.01\nv 0.5 0.9 0.01\nv 0.5 0.4 0.2\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n",
+        "vertex 2 (3, 0.1, 0.01) lies more than 1 tile width outside the tile [0, 1] x [0, 1] x [0, 0.25] in "
+        "x "
+        "(x must be in [-1, 2]");
     objError(
-        "v 0.1 0.1 0.01\nv -0.01 0.1 0.01\nv 0.5 0.9 0.01\nv 0.5 0.4 0.2\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 "
+        "v 0.1 0.1 0.01\nv 0.9 -1.5 0.01\nv 0.5 0.9 0.01\nv 0.5 0.4 0.2\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 "
         "4\n",
-        "vertex 2");
+        "vertex 2 (0.9, -1.5, 0.01) lies more than 1 tile width outside the tile [0, 1] x [0, 1] x [0, 0.25] "
+        "in y");
+    objError(
+        "v 0.1 0.1 0.01\nv 0.9 0.1 0.01\nv 0.5 0.9 0.01\nv 0.5 0.4 1.5\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n",
+        "vertex 4 (0.5, 0.4, 1.5) lies more than 1 tile width outside the tile [0, 1] x [0, 1] x [0, 0.25] "
+        "in z "
+        "(z must be in [-1, 1.25]");
+    // Entirely above the shell, or entirely in the neighbouring tile.
+    objError(
+        "v 0.1 0.1 0.3\nv 0.9 0.1 0.3\nv 0.5 0.9 0.3\nv 0.5 0.4 0.5\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n",
+        "the mesh lies entirely outside the tile [0, 1] x [0, 1] x [0, 0.25] (its bounding box (0.1, 0.1, "
+        "0.3) - "
+        "(0.9, 0.9, 0.5) does not meet it)");
+    objError(
+        "v 1.1 0.1 0.01\nv 1.9 0.1 0.01\nv 1.5 0.9 0.01\nv 1.5 0.4 0.2\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n",
+        "the mesh lies entirely outside the tile");
     objError("v 0.1 0.1\n", ":1: a vertex needs x y z");
     objError("v 0.1 0.1 0.1\nv 0.2 0.1 0.1\nv 0.1 0.2 0.1\nf 1 2 7\n", ":4: vertex index 7 out of range");
     objError("v 0.1 0.1 0.1\nv 0.2 0.1 0.1\nv 0.1 0.2 0.1\nf 1 1 2\n", "triangle 1 is degenerate");
+}
+
+TEST(SolidObj, AcceptsGeometryThatWrapsOrIsClipped) {
+    // CONVENTIONS §8: the tetrahedron crossing x = 0 and y = 1 (it wraps), with its apex above H and its
+    // base below 0 (clipped away), one tile width out at most.
+    test::ScratchDir dir("solid-obj-wrap");
+    test::writeBytes(dir / "tet.obj",
+                     "v -0.3 0.1 -0.05\nv 0.5 0.1 -0.05\nv 0.1 1.9 -0.05\nv 0.1 0.4 1.25\n"
+                     "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n");
+    const SolidMesh mesh = readSolidObj(dir / "tet.obj", 0.25);
+    EXPECT_EQ(mesh.triangles.size(), 4u);
+    EXPECT_GT(signedVolume(mesh), 0.0);
+    // Exactly at the bounds, and a mesh that only touches the tile box at a corner.
+    test::writeBytes(dir / "edge.obj",
+                     "v -1 -1 -1\nv 0 -1 -1\nv -1 0 -1\nv -1 -1 0\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n");
+    EXPECT_NO_THROW(readSolidObj(dir / "edge.obj", 0.25));
 }
 
 TEST(SolidObj, MissingFileIsAnIoError) {
@@ -230,9 +265,13 @@ TEST(SolidVdb, ReadsALevelSetAndRefusesOtherGrids) {
 
     test::writeBytes(dir / "junk.vdb", "not a vdb");
     EXPECT_NE(errorOf([&] { readSolidVdb(dir / "junk.vdb", 0.25); }).find("junk.vdb"), std::string::npos);
-    // The ball does not fit under H = 0.1: refused as outside the tile.
-    EXPECT_NE(errorOf([&] { readSolidVdb(dir / "ball.vdb", 0.1); }).find("outside the tile"),
-              std::string::npos);
+    // The ball pokes out of a shell of H = 0.1 (z in [0.025, 0.225]): accepted, the bake clips it (§8). Under
+    // H = 0.01 it lies entirely above the shell: refused.
+    EXPECT_EQ(readSolidVdb(dir / "ball.vdb", 0.1).triangles.size(), mesh.triangles.size());
+    const std::string above = errorOf([&] { readSolidVdb(dir / "ball.vdb", 0.01); });
+    EXPECT_NE(above.find("ball.vdb (grid \"ball\"): the mesh lies entirely outside the tile"),
+              std::string::npos)
+        << above;
 }
 
 }  // namespace

@@ -1,0 +1,203 @@
+// strata gdm trace DIR [--eye X,Y,Z] [--target X,Y,Z] [--fov DEG] [--size WxH] [--light X,Y,Z]
+//                  --output uvw|shadow|mask [--reference] [--gdm svd|raw] [--lookup nearest|bilinear] -o
+//                  F.png
+//
+// Renders the GDM verification scene of CONVENTIONS §8 (the unit quad, the shell box [0, 1]^2 x [0, H] above
+// it) on the CPU from a GDM asset: the paper's per-pixel algorithm (emulateGdm, Sec. 3.2) on the asset's SVD
+// (default) or its raw GDM, or with --reference the exact reference (renderGdmReference) on the solid mesh
+// the asset stores. The output is one of §8's 16-bit PNGs: uvw (RGBA), shadow or mask (gray).
+#include "cli_common.h"
+#include "render_common.h"
+
+#include "strata/core/error.h"
+#include "strata/core/file.h"
+#include "strata/gdm/gdm_asset.h"
+#include "strata/gdm/gdm_trace.h"
+#include "strata/image/image_io.h"
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace strata::cli {
+
+namespace {
+
+// The defaults: the view of the accuracy table in docs/gdm.md (bench_gdm_trace), 45 degrees from the
+// normal at distance 1.6 from the quad's centre, eye (0.5, 0.5 - 1.6 sin 45°, 1.6 cos 45°).
+constexpr const char* kDefaultEye = "0.5,-0.6314,1.1314";
+constexpr const char* kDefaultTarget = "0.5,0.5,0";
+constexpr double kDefaultFov = 45.0;
+constexpr const char* kDefaultSize = "256x256";
+constexpr const char* kDefaultLight = "0.5,-0.6,1.1";
+// As `strata render`'s pictures.
+constexpr int kMaxPictureSize = 8192;
+
+struct GdmTraceOptions {
+    fs::path asset;
+    std::string eye = kDefaultEye;
+    std::string target = kDefaultTarget;
+    double fov = kDefaultFov;
+    std::string size = kDefaultSize;
+    std::string light = kDefaultLight;
+    std::string output;
+    bool reference = false;
+    std::string gdm;     // svd (default) | raw; empty: not given
+    std::string lookup;  // nearest (default) | bilinear; empty: not given
+    fs::path file;
+};
+
+enum class TraceOutput { Uvw, Shadow, Mask };
+
+TraceOutput parseTraceOutput(const std::string& name) {
+    if (name == "uvw") return TraceOutput::Uvw;
+    if (name == "shadow") return TraceOutput::Shadow;
+    if (name == "mask") return TraceOutput::Mask;
+    throw Error(ErrorKind::Usage, "gdm trace: --output must be uvw, shadow or mask, got \"" + name + "\"");
+}
+
+// Every file of the asset that exists: the trace must never overwrite one.
+std::vector<fs::path> assetFiles(const fs::path& dir) {
+    std::vector<fs::path> files;
+    std::error_code ec;
+    for (const char* name : {kGdmAssetSidecar, "weights.f32", "eigen.f32", "occupancy.u8", "albedo.rgb8",
+                             "raw.f32", "solid.obj"})
+        if (fs::exists(dir / name, ec)) files.push_back(dir / name);
+    return files;
+}
+
+void runGdmTrace(const GdmTraceOptions& options) {
+    // The flags first, then the asset's directory: nothing is read before both are known to be good. An -o
+    // that is one of the asset's files is refused as such (exit 2), before the extension check (exit 1).
+    if (options.asset.empty()) throw Error(ErrorKind::Usage, "gdm trace: give the GDM asset directory DIR");
+    if (options.output.empty())
+        throw Error(ErrorKind::Usage, "gdm trace: give --output uvw, shadow or mask (CONVENTIONS §8)");
+    const TraceOutput output = parseTraceOutput(options.output);
+    if (options.file.empty()) throw Error(ErrorKind::Usage, "gdm trace: give the output PNG with -o F.png");
+    if (options.reference && (!options.gdm.empty() || !options.lookup.empty()))
+        throw Error(ErrorKind::Usage,
+                    "gdm trace: --reference traces the solid mesh; --gdm and --lookup are for the emulation");
+    const std::string gdmName = options.gdm.empty() ? "svd" : options.gdm;
+    if (gdmName != "svd" && gdmName != "raw")
+        throw Error(ErrorKind::Usage, "gdm trace: --gdm must be svd or raw, got \"" + gdmName + "\"");
+    const std::string lookupName = options.lookup.empty() ? "nearest" : options.lookup;
+    if (lookupName != "nearest" && lookupName != "bilinear")
+        throw Error(ErrorKind::Usage,
+                    "gdm trace: --lookup must be nearest or bilinear, got \"" + lookupName + "\"");
+    const GdmDirectionLookup lookup =
+        lookupName == "bilinear" ? GdmDirectionLookup::Bilinear : GdmDirectionLookup::Nearest;
+    const std::vector<int> size = parseSizeList(options.size, 2, "--size", "WxH (e.g. 256x256)");
+    Camera camera;
+    camera.eye = parseVec3(options.eye, "--eye");
+    camera.target = parseVec3(options.target, "--target");
+    camera.fovYDegrees = options.fov;
+    const glm::dvec3 light = parseVec3(options.light, "--light");
+    for (int s : size)
+        if (s < 1 || s > kMaxPictureSize)
+            throw Error(ErrorKind::InvalidInput, "gdm trace: --size must be in [1, " +
+                                                     std::to_string(kMaxPictureSize) + "] each, got " +
+                                                     options.size);
+    validateCamera(camera, "gdm trace (--eye, --target, --fov)");
+
+    std::error_code ec;
+    if (!fs::is_directory(options.asset, ec))
+        throw Error(ErrorKind::Io, options.asset.string() +
+                                       ": no such directory (a GDM asset directory, from `strata gdm bake`)");
+    if (!fs::exists(options.asset / kGdmAssetSidecar, ec))
+        throw Error(ErrorKind::Io, options.asset.string() + ": not a GDM asset (it has no " +
+                                       std::string(kGdmAssetSidecar) + ")");
+    refuseToOverwriteInputs(options.file, assetFiles(options.asset));
+    if (!isPngName(options.file))
+        throw Error(ErrorKind::Usage,
+                    "gdm trace: -o must name a .png file (a 16-bit PNG), got " + options.file.string());
+
+    const auto start = std::chrono::steady_clock::now();
+    progress("reading " + options.asset.string());
+    const GdmAsset asset = readGdmAsset(options.asset);
+    const std::string dir = options.asset.string();
+    const int width = size[0], height = size[1];
+    const std::string pixels = std::to_string(width) + "x" + std::to_string(height);
+    GdmSceneImages images;
+    std::string what;
+    if (options.reference) {
+        if (!asset.solid)
+            throw Error(
+                ErrorKind::InvalidInput,
+                dir +
+                    ": holds no solid.obj (baked before the asset stored its solid), which --reference "
+                    "traces: bake it again with `strata gdm bake`");
+        what = "exact reference, " + std::to_string(asset.solid->triangles.size()) + " triangles";
+        progress("tracing the exact reference at " + pixels);
+        images = renderGdmReference(*asset.solid, camera, light, width, height);
+    } else if (gdmName == "raw") {
+        if (!asset.raw)
+            throw Error(ErrorKind::InvalidInput,
+                        dir +
+                            ": holds no raw GDM (raw.f32), which --gdm raw reads: bake it with --keep-raw, "
+                            "or trace the SVD (--gdm svd)");
+        what = "the paper's algorithm on the raw GDM, " + lookupName + " directions";
+        progress("emulating the paper's algorithm on the raw GDM at " + pixels);
+        images = emulateGdm(*asset.raw, camera, light, width, height, lookup);
+    } else {
+        what = "the paper's algorithm on the rank-" + std::to_string(asset.svd.rank) + " SVD, " + lookupName +
+               " directions";
+        progress("emulating the paper's algorithm on the rank-" + std::to_string(asset.svd.rank) +
+                 " SVD at " + pixels);
+        images = emulateGdm(asset.svd, camera, light, width, height, lookup);
+    }
+
+    // CONVENTIONS §8: 16-bit, round(value * 65535), no dither. uvw's fourth channel is 1 on a hit and its
+    // others 0 on a miss, as §8's A = 65535 / all zero.
+    const Image& picture = output == TraceOutput::Uvw      ? images.uvw
+                           : output == TraceOutput::Shadow ? images.shadow
+                                                           : images.mask;
+    std::size_t hits = 0;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) hits += images.mask.at(x, y) > 0.5f ? 1 : 0;
+    PngWriteOptions png;
+    png.bitDepth = PngBitDepth::Sixteen;
+    png.dither = false;
+    if (!options.file.parent_path().empty()) fs::create_directories(options.file.parent_path());
+    writePng(options.file, picture, png);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::ostringstream summary;
+    summary << asset.source << ", " << what << ", " << options.output << ", " << pixels << ", "
+            << formatNumber(std::round(1000.0 * double(hits) / (double(width) * height)) / 10.0)
+            << "% of the pixels hit, " << formatNumber(std::round(seconds * 10) / 10) << " s";
+    std::cout << "wrote " << options.file.string() << " (" << summary.str() << ")\n";
+}
+
+}  // namespace
+
+void addGdmTraceCommand(CLI::App& gdm) {
+    auto options = std::make_shared<GdmTraceOptions>();
+    CLI::App* command = gdm.add_subcommand("trace",
+                                           "Render the GDM verification scene (CONVENTIONS §8) on the CPU "
+                                           "from a GDM asset: the paper's algorithm, "
+                                           "or the exact reference");
+    command->add_option("dir", options->asset, "GDM asset directory (strata gdm bake)")->required();
+    command->add_option("--eye", options->eye, "Camera position X,Y,Z")->capture_default_str();
+    command->add_option("--target", options->target, "Camera target X,Y,Z")->capture_default_str();
+    command->add_option("--fov", options->fov, "Vertical field of view in degrees")->capture_default_str();
+    command->add_option("--size", options->size, "Picture size WxH in pixels")->capture_default_str();
+    command->add_option("--light", options->light, "Point light position X,Y,Z")->capture_default_str();
+    command->add_option("--output", options->output,
+                        "What a pixel holds: uvw (RGBA), shadow or mask (gray), 16-bit (CONVENTIONS §8)");
+    command->add_flag("--reference", options->reference,
+                      "Trace the exact reference on the asset's solid mesh (solid.obj) instead of the GDM");
+    command->add_option(
+        "--gdm", options->gdm,
+        "The GDM the paper's algorithm reads: svd (the stored rank; default) or raw (raw.f32, "
+        "from a bake with --keep-raw)");
+    command->add_option("--lookup", options->lookup,
+                        "Direction lookup of the emulation: nearest (default) or bilinear");
+    command->add_option("-o,--out", options->file, "Output PNG");
+    command->callback([options] { runGdmTrace(*options); });
+}
+
+}  // namespace strata::cli
