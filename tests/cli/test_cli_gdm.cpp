@@ -1,10 +1,16 @@
 // `strata gdm bake` and `strata info` on a GDM asset end to end; the documented errors write nothing.
 #include "test_support.h"
 
+#include "strata/gdm/gdm.h"
 #include "strata/gdm/gdm_asset.h"
 
 #include <gtest/gtest.h>
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/LevelSetSphere.h>
+#include <glm/geometric.hpp>
 
+#include <cmath>
 #include <fstream>
 
 namespace strata {
@@ -45,6 +51,80 @@ TEST(CliGdm, BakesAReadableAssetThatInfoDescribes) {
         info.output.find("solid.obj     : " + std::to_string(asset.solid->triangles.size()) + " triangles"),
         std::string::npos)
         << info.output;
+}
+
+// Distance from `origin` along unit `direction` to the sphere (centre, radius), or -1 if it misses.
+double sphereDistance(const glm::dvec3& origin, const glm::dvec3& direction, const glm::dvec3& centre,
+                      double radius) {
+    const glm::dvec3 offset = origin - centre;
+    const double b = glm::dot(offset, direction);
+    const double c = glm::dot(offset, offset) - radius * radius;
+    const double discriminant = b * b - c;
+    if (discriminant < 0.0) return -1.0;
+    const double t = -b - std::sqrt(discriminant);
+    return t >= 0.0 ? t : -1.0;
+}
+
+TEST(CliGdm, BakesAnOpenVdbLevelSet) {
+    // A ball written as OpenVDB writes level sets (as Blender and Houdini do): a FloatGrid of class level
+    // set, in tile units, negative inside.
+    test::ScratchDir dir("cli-gdm-vdb");
+    openvdb::initialize();
+    const glm::dvec3 centre(0.5, 0.5, 0.125);
+    constexpr double kRadius = 0.1;
+    constexpr double kVoxel = 1.0 / 128;
+    openvdb::FloatGrid::Ptr ball = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(
+        float(kRadius), openvdb::Vec3f(0.5f, 0.5f, 0.125f), float(kVoxel));
+    ball->setName("ball");
+    openvdb::io::File((dir / "ball.vdb").string()).write({ball});
+    const auto bake = runCli("gdm bake --vdb " + quoted(dir / "ball.vdb") +
+                             " --height 0.25 --size 16x16x4 --dirs 4x8 --keep-raw -o " + quoted(dir / "out"));
+    ASSERT_EQ(bake.exitCode, 0) << bake.output;
+    const GdmAsset asset = readGdmAsset(dir / "out");
+    EXPECT_EQ(asset.source, (dir / "ball.vdb").string());
+    ASSERT_TRUE(asset.raw.has_value());
+    const Gdm& gdm = *asset.raw;
+    int compared = 0;
+    for (int k = 0; k < 4; ++k)
+        for (int j = 0; j < 16; ++j)
+            for (int i = 0; i < 16; ++i) {
+                const glm::dvec3 p = gdmVoxelCentre(gdm.dims, gdm.height, i, j, k);
+                const double inside = glm::length(p - centre) - kRadius;
+                // The mesh of the level set lies within about a tenth of its voxel of the sphere; centres
+                // closer than one voxel to the surface are not asserted.
+                if (std::abs(inside) < kVoxel) continue;
+                EXPECT_EQ(asset.occupancy[std::size_t((k * 16 + j) * 16 + i)], inside < 0.0 ? 1 : 0)
+                    << i << " " << j << " " << k;
+                if (inside < 0.0) continue;
+                for (int t = 0; t < 4; ++t)
+                    for (int s = 0; s < 8; ++s) {
+                        const glm::dvec3 direction = gdmDirection(gdm.dims, t, s);
+                        const double d = sphereDistance(p, direction, centre, kRadius);
+                        const float baked = gdm.at(i, j, k, t, s);
+                        // Rays that meet this ball (no copy one tile away lies between a voxel centre and
+                        // it), and not near its rim, where the faceted sphere and the true one part ways.
+                        if (d < 0.0) continue;
+                        const double miss = glm::length(glm::cross(centre - p, direction));
+                        if (kRadius - miss < 4 * kVoxel) continue;
+                        // A chord through the faceted sphere: within a voxel of the true one.
+                        EXPECT_NEAR(double(baked), d, kVoxel)
+                            << i << " " << j << " " << k << " " << t << " " << s;
+                        ++compared;
+                    }
+            }
+    EXPECT_GT(compared, 50);
+
+    // A .vdb without a level set: exit 3, naming the file; nothing written.
+    openvdb::FloatGrid::Ptr fog = openvdb::FloatGrid::create(0.0f);
+    fog->setGridClass(openvdb::GRID_FOG_VOLUME);
+    fog->tree().setValue(openvdb::Coord(1, 2, 3), 1.0f);
+    openvdb::io::File((dir / "fog.vdb").string()).write({fog});
+    const auto refused =
+        runCli("gdm bake --vdb " + quoted(dir / "fog.vdb") + " --height 0.25 -o " + quoted(dir / "fog"));
+    EXPECT_EQ(refused.exitCode, 3) << refused.output;
+    EXPECT_NE(refused.output.find("fog.vdb: holds no level-set FloatGrid"), std::string::npos)
+        << refused.output;
+    EXPECT_FALSE(std::filesystem::exists(dir / "fog"));
 }
 
 TEST(CliGdm, ErrorsAreDocumentedCodesAndWriteNothing) {
