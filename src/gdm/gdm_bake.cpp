@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <future>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -54,6 +55,7 @@ void tracePacket(const PeriodicScene& scene, RTCIntersectContext& context, const
     glm::dvec3 start[kPacketWidth];  // each lane's current segment's origin
     double travelled[kPacketWidth];  // how far each lane's ray has come before that segment
     double tColumn[kPacketWidth];
+    const SegmentRange range = segmentRange(scene, height);
     bool any = false;
     for (int n = 0; n < kPacketWidth; ++n) {
         valid[n] = 0;
@@ -69,7 +71,7 @@ void tracePacket(const PeriodicScene& scene, RTCIntersectContext& context, const
         for (int n = 0; n < kPacketWidth; ++n) {
             if (valid[n] == 0) continue;
             const glm::dvec3& direction = directions[std::size_t(lanes[n])];
-            const Segment next = segment(scene, start[n], direction, height, travelled[n]);
+            const Segment next = segment(range, start[n], direction, travelled[n]);
             tColumn[n] = next.tColumn;
             packet.ray.org_x[n] = float(start[n].x);
             packet.ray.org_y[n] = float(start[n].y);
@@ -92,8 +94,12 @@ void tracePacket(const PeriodicScene& scene, RTCIntersectContext& context, const
             if (valid[n] == 0) continue;
             const glm::dvec3& direction = directions[std::size_t(lanes[n])];
             if (packet.hit.geomID[n] != RTC_INVALID_GEOMETRY_ID) {
-                const glm::vec3& normal = scene.normals[packet.hit.primID[n]];
-                const bool slipped = !scene.watertight && glm::dot(glm::dvec3(normal), direction) >= 0.0;
+                // Embree's geometry normal Ng points out of the solid as scene.normals do (the triangles
+                // are counter-clockwise seen from outside), and needs no lookup.
+                const double along = double(packet.hit.Ng_x[n]) * direction.x +
+                                     double(packet.hit.Ng_y[n]) * direction.y +
+                                     double(packet.hit.Ng_z[n]) * direction.z;
+                const bool slipped = !scene.watertight && along >= 0.0;
                 values[lanes[n]] =
                     slipped ? distanceAlong(scene, scene.robust(), context, origin, direction, height, 0.0)
                             : float(travelled[n] + double(packet.ray.tfar[n]));
@@ -122,14 +128,19 @@ Gdm bakeGdm(const SolidMesh& solid, const GdmDims& dims, const GdmBakeProgress& 
     Gdm gdm;
     gdm.dims = dims;
     gdm.height = solid.height;
-    gdm.values.assign(dims.valueCount(), kGdmMiss);
     if (solid.triangles.empty()) {
+        gdm.values.assign(dims.valueCount(), kGdmMiss);
         if (progress) progress(1.0);
         return gdm;
     }
 
+    // The values (134 MB at the paper's size, a page fault every 4 KiB) are allocated on another thread
+    // while Embree builds the scene. Every value is written below; the fill only sizes the vector.
+    std::future<void> allocated =
+        std::async(std::launch::async, [&] { gdm.values.assign(dims.valueCount(), kGdmMiss); });
     EmbreeErrors errors;
     const PeriodicScene scene = buildScene(solid, what, errors, SceneTest::Fast);
+    allocated.get();
     const double height = solid.height;
     const int directionCount = int(dims.directionCount());
     std::vector<glm::dvec3> directions(static_cast<std::size_t>(directionCount));
