@@ -59,6 +59,14 @@ void writeText(const fs::path& path, const std::string& text) {
     std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
 }
 
+// `text` with its first `from` replaced by `to` (a failure if there is none).
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    return text;
+}
+
 // Runs `f` and returns the message of the Error(kind) it must throw.
 template <class F>
 std::string errorOf(F f, ErrorKind kind) {
@@ -209,11 +217,7 @@ TEST(GdmAsset, MissingOrCorruptSolidIsRefusedNamingIt) {
 
     // The sidecar's entry: type, file name, bytes, unknown keys.
     auto edit = [&](const std::string& from, const std::string& to) {
-        std::string text = sidecar;
-        const auto at = text.find(from);
-        ASSERT_NE(at, std::string::npos) << from;
-        text.replace(at, from.size(), to);
-        writeText(a / "gdm.json", text);
+        writeText(a / "gdm.json", replaced(sidecar, from, to));
     };
     edit("\"type\": \"obj\"", "\"type\": \"ply\"");
     refused("gdm.json: payloads.solid.type");
@@ -277,11 +281,7 @@ TEST(GdmAsset, CorruptionsAreRefusedNamingTheFile) {
     fs::rename(dir / "raw.f32", a / "raw.f32");
     // An unknown version.
     auto edit = [&](const std::string& from, const std::string& to) {
-        std::string text = sidecar;
-        const auto at = text.find(from);
-        ASSERT_NE(at, std::string::npos) << from;
-        text.replace(at, from.size(), to);
-        writeText(a / "gdm.json", text);
+        writeText(a / "gdm.json", replaced(sidecar, from, to));
     };
     edit("\"version\": 1", "\"version\": 2");
     refused("version");

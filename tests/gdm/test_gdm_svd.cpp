@@ -32,16 +32,23 @@ double substituted(const Gdm& gdm, int i, int j, int k, int t, int s) {
     return value == kGdmMiss ? gdmBoundaryDistance(gdm.dims, gdm.height, k, t) : double(value);
 }
 
+// Calls body(i, j, k, t, s) for every value of a GDM of `dims`.
+template <class Body>
+void forEachValue(const GdmDims& dims, const Body& body) {
+    for (int k = 0; k < dims.nz; ++k)
+        for (int j = 0; j < dims.ny; ++j)
+            for (int i = 0; i < dims.nx; ++i)
+                for (int t = 0; t < dims.ntheta; ++t)
+                    for (int s = 0; s < dims.nphi; ++s) body(i, j, k, t, s);
+}
+
 // Largest |substituted raw - reconstruct| over every value.
 double maxReconstructionError(const Gdm& gdm, const GdmSvd& svd) {
     double worst = 0.0;
-    for (int k = 0; k < gdm.dims.nz; ++k)
-        for (int j = 0; j < gdm.dims.ny; ++j)
-            for (int i = 0; i < gdm.dims.nx; ++i)
-                for (int t = 0; t < gdm.dims.ntheta; ++t)
-                    for (int s = 0; s < gdm.dims.nphi; ++s)
-                        worst = std::max(worst, std::abs(substituted(gdm, i, j, k, t, s) -
-                                                         double(reconstruct(svd, i, j, k, t, s))));
+    forEachValue(gdm.dims, [&](int i, int j, int k, int t, int s) {
+        worst = std::max(worst,
+                         std::abs(substituted(gdm, i, j, k, t, s) - double(reconstruct(svd, i, j, k, t, s))));
+    });
     return worst;
 }
 
@@ -51,16 +58,12 @@ TEST(GdmSvd, LayoutIndicesAreABijection) {
         const std::size_t rows = gdmLayoutRows(dims, layout), cols = gdmLayoutCols(dims, layout);
         EXPECT_EQ(rows * cols, dims.valueCount()) << toString(layout);
         std::vector<int> seen(rows * cols, 0);
-        for (int k = 0; k < dims.nz; ++k)
-            for (int j = 0; j < dims.ny; ++j)
-                for (int i = 0; i < dims.nx; ++i)
-                    for (int t = 0; t < dims.ntheta; ++t)
-                        for (int s = 0; s < dims.nphi; ++s) {
-                            const GdmMatrixIndex index = gdmMatrixIndex(dims, layout, i, j, k, t, s);
-                            ASSERT_LT(index.row, rows);
-                            ASSERT_LT(index.col, cols);
-                            ++seen[index.row * cols + index.col];
-                        }
+        forEachValue(dims, [&](int i, int j, int k, int t, int s) {
+            const GdmMatrixIndex index = gdmMatrixIndex(dims, layout, i, j, k, t, s);
+            EXPECT_LT(index.row, rows);
+            EXPECT_LT(index.col, cols);
+            if (index.row < rows && index.col < cols) ++seen[index.row * cols + index.col];
+        });
         EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), std::ptrdiff_t(seen.size())) << toString(layout);
     }
     // The paper's layout: rows (x, y, phi) with phi fastest, columns (theta, z) with theta fastest.
@@ -133,17 +136,12 @@ TEST(GdmSvd, RankOneOfARankOneMatrixIsExact) {
         product.height = kHeight;
         product.values.resize(kDims.valueCount());
         const std::size_t rows = gdmLayoutRows(kDims, layout), cols = gdmLayoutCols(kDims, layout);
-        for (int k = 0; k < kDims.nz; ++k)
-            for (int j = 0; j < kDims.ny; ++j)
-                for (int i = 0; i < kDims.nx; ++i)
-                    for (int t = 0; t < kDims.ntheta; ++t)
-                        for (int s = 0; s < kDims.nphi; ++s) {
-                            const GdmMatrixIndex index = gdmMatrixIndex(kDims, layout, i, j, k, t, s);
-                            const double f =
-                                0.5 + 0.4 * std::sin(0.7 * double(index.row) / double(rows) * 9.0);
-                            const double g = 0.2 + 0.1 * std::cos(double(index.col) / double(cols) * 5.0);
-                            product.values[product.valueIndex(i, j, k, t, s)] = float(f * g);
-                        }
+        forEachValue(kDims, [&](int i, int j, int k, int t, int s) {
+            const GdmMatrixIndex index = gdmMatrixIndex(kDims, layout, i, j, k, t, s);
+            const double f = 0.5 + 0.4 * std::sin(0.7 * double(index.row) / double(rows) * 9.0);
+            const double g = 0.2 + 0.1 * std::cos(double(index.col) / double(cols) * 5.0);
+            product.values[product.valueIndex(i, j, k, t, s)] = float(f * g);
+        });
         const GdmSvd one = compressGdm(product, 1, layout);
         // Values below 0.3; float maps: 1e-5 is a hundred times their rounding.
         EXPECT_LT(maxReconstructionError(product, one), 1e-5) << toString(layout);
@@ -176,14 +174,10 @@ TEST(GdmSvd, LargeGramGivesTheLargestSingularValues) {
     const Gdm gdm = makeWavySlabGdm(dims, kHeight);
     const GdmLayout layout = GdmLayout::XyByZThetaPhi;
     Eigen::MatrixXd a(Eigen::Index(gdmLayoutRows(dims, layout)), Eigen::Index(gdmLayoutCols(dims, layout)));
-    for (int k = 0; k < dims.nz; ++k)
-        for (int j = 0; j < dims.ny; ++j)
-            for (int i = 0; i < dims.nx; ++i)
-                for (int t = 0; t < dims.ntheta; ++t)
-                    for (int s = 0; s < dims.nphi; ++s) {
-                        const GdmMatrixIndex index = gdmMatrixIndex(dims, layout, i, j, k, t, s);
-                        a(Eigen::Index(index.row), Eigen::Index(index.col)) = substituted(gdm, i, j, k, t, s);
-                    }
+    forEachValue(dims, [&](int i, int j, int k, int t, int s) {
+        const GdmMatrixIndex index = gdmMatrixIndex(dims, layout, i, j, k, t, s);
+        a(Eigen::Index(index.row), Eigen::Index(index.col)) = substituted(gdm, i, j, k, t, s);
+    });
     const Eigen::VectorXd sigma = Eigen::BDCSVD<Eigen::MatrixXd>(a).singularValues();
     constexpr int kRank = 8;
     const GdmSvd svd = compressGdm(gdm, kRank, layout);
