@@ -1,9 +1,13 @@
 // SVD compression of a GDM (Wang et al. 2004, Sec. 4.1): the layouts' index maps, the boundary substitution
 // and the exit rule, exactness at full rank and on rank-1 inputs, error monotone in the rank, the refusals.
-// The inputs are closed-form GDMs (gdm_analytic.h) on small dims, not baked ones.
+// The inputs are closed-form GDMs (gdm_analytic.h) on small dims, and once the baked built-in weave at the
+// paper's size (BuiltinWeaveErrorAgainstRank).
 #include "strata/core/error.h"
 #include "strata/gdm/gdm_analytic.h"
+#include "strata/gdm/gdm_bake.h"
 #include "strata/gdm/gdm_svd.h"
+#include "strata/gdm/mesostructure.h"
+#include "strata/gdm/mesostructure_mesh.h"
 
 #include <gtest/gtest.h>
 #include <Eigen/SVD>
@@ -196,6 +200,18 @@ TEST(GdmSvd, LargeGramGivesTheLargestSingularValues) {
     const double optimal = std::sqrt((a.squaredNorm() - kept) / double(a.size())) / voxel;
     // The maps are float: their rounding adds about 1e-7 of a value, 1e-5 voxels here.
     EXPECT_NEAR(measureGdmSvd(gdm, svd, {0, 1}).rmseVoxels, optimal, 1e-4);
+}
+
+TEST(GdmSvd, BuiltinWeaveErrorAgainstRank) {
+    // Issue 17's case: the built-in weave meshed at 64 per tile width, baked at 64 x 64 x 16 x 16 x 32,
+    // compressed in the paper's layout. Measured: rank 8 2.10 voxels RMSE, 13 1.70, 14 1.64 (docs/gdm.md).
+    // The truncated SVD is the best rank-k approximation (LargeGramGivesTheLargestSingularValues), so these
+    // are the weave's own numbers; the bounds leave 3 % for changes to the mesh or the bake's float rounding.
+    // The issue's 1.7 voxels is not met at its rank 8, and is at 14 with that margin.
+    const Gdm gdm = bakeGdm(meshMesostructure(makeMesostructure("weave"), 64), GdmDims{});
+    const GdmSvdErrorParams noSegments{0, 1};
+    EXPECT_LT(measureGdmSvd(gdm, compressGdm(gdm, 8), noSegments).rmseVoxels, 2.16);
+    EXPECT_LE(measureGdmSvd(gdm, compressGdm(gdm, 14), noSegments).rmseVoxels, 1.7);
 }
 
 TEST(GdmSvd, MeasuresAndMemory) {
