@@ -1,6 +1,6 @@
 // strata gdm trace DIR [--eye X,Y,Z] [--target X,Y,Z] [--fov DEG] [--size WxH] [--light X,Y,Z]
-//                  --output uvw|shadow|mask [--reference] [--gdm svd|raw] [--lookup nearest|bilinear] -o
-//                  F.png
+//                  --output uvw|shadow|mask [--reference] [--gl] [--gdm svd|raw] [--lookup nearest|bilinear]
+//                  -o F.png
 //
 // Renders the GDM verification scene of CONVENTIONS §8 (the unit quad, the shell box [0, 1]^2 x [0, H] above
 // it) on the CPU from a GDM asset: the paper's per-pixel algorithm (emulateGdm, Sec. 3.2) on the asset's SVD
@@ -13,6 +13,8 @@
 #include "strata/core/file.h"
 #include "strata/gdm/gdm_asset.h"
 #include "strata/gdm/gdm_trace.h"
+#include "strata/gl/context.h"
+#include "strata/gl/gdm_renderer.h"
 #include "strata/image/image_io.h"
 
 #include <chrono>
@@ -47,6 +49,7 @@ struct GdmTraceOptions {
     std::string light = kDefaultLight;
     std::string output;
     bool reference = false;
+    bool gl = false;     // the paper's algorithm in OpenGL (strata::gl::renderGdmScene) instead of on the CPU
     std::string gdm;     // svd (default) | raw; empty: not given
     std::string lookup;  // nearest (default) | bilinear; empty: not given
     fs::path file;
@@ -79,6 +82,10 @@ void runGdmTrace(const GdmTraceOptions& options) {
         throw Error(ErrorKind::Usage, "gdm trace: give --output uvw, shadow or mask (CONVENTIONS §8)");
     const TraceOutput output = parseTraceOutput(options.output);
     if (options.file.empty()) throw Error(ErrorKind::Usage, "gdm trace: give the output PNG with -o F.png");
+    if (options.reference && options.gl)
+        throw Error(ErrorKind::Usage,
+                    "gdm trace: --reference traces the solid mesh on the CPU; --gl is for the "
+                    "paper's algorithm");
     if (options.reference && (!options.gdm.empty() || !options.lookup.empty()))
         throw Error(ErrorKind::Usage,
                     "gdm trace: --reference traces the solid mesh; --gdm and --lookup are for the emulation");
@@ -124,6 +131,10 @@ void runGdmTrace(const GdmTraceOptions& options) {
     const std::string pixels = std::to_string(width) + "x" + std::to_string(height);
     GdmSceneImages images;
     std::string what;
+    // The GL path needs a context for as long as it draws; made before the asset's work starts failing late.
+    std::unique_ptr<gl::HeadlessContext> context;
+    const std::string engine = options.gl ? ", OpenGL" : "";
+    if (options.gl) context = gl::HeadlessContext::create();
     if (options.reference) {
         if (!asset.solid)
             throw Error(
@@ -140,15 +151,17 @@ void runGdmTrace(const GdmTraceOptions& options) {
                         dir +
                             ": holds no raw GDM (raw.f32), which --gdm raw reads: bake it with --keep-raw, "
                             "or trace the SVD (--gdm svd)");
-        what = "the paper's algorithm on the raw GDM, " + lookupName + " directions";
-        progress("emulating the paper's algorithm on the raw GDM at " + pixels);
-        images = emulateGdm(*asset.raw, camera, light, width, height, lookup);
+        what = "the paper's algorithm on the raw GDM, " + lookupName + " directions" + engine;
+        progress("running the paper's algorithm on the raw GDM at " + pixels + engine);
+        images = options.gl ? gl::renderGdmScene(*asset.raw, camera, light, width, height, lookup)
+                            : emulateGdm(*asset.raw, camera, light, width, height, lookup);
     } else {
         what = "the paper's algorithm on the rank-" + std::to_string(asset.svd.rank) + " SVD, " + lookupName +
-               " directions";
-        progress("emulating the paper's algorithm on the rank-" + std::to_string(asset.svd.rank) +
-                 " SVD at " + pixels);
-        images = emulateGdm(asset.svd, camera, light, width, height, lookup);
+               " directions" + engine;
+        progress("running the paper's algorithm on the rank-" + std::to_string(asset.svd.rank) + " SVD at " +
+                 pixels + engine);
+        images = options.gl ? gl::renderGdmScene(asset.svd, camera, light, width, height, lookup)
+                            : emulateGdm(asset.svd, camera, light, width, height, lookup);
     }
 
     // CONVENTIONS §8: 16-bit, round(value * 65535), no dither. uvw's fourth channel is 1 on a hit and its
@@ -194,6 +207,9 @@ void addGdmTraceCommand(CLI::App& gdm) {
         "--gdm", options->gdm,
         "The GDM the paper's algorithm reads: svd (the stored rank; default) or raw (raw.f32, "
         "from a bake with --keep-raw)");
+    command->add_flag("--gl", options->gl,
+                      "Run the paper's algorithm in OpenGL 4.5 (a fragment shader on the quad's prism shell) "
+                      "instead of on the CPU; the same pictures to float rounding");
     command->add_option("--lookup", options->lookup,
                         "Direction lookup of the emulation: nearest (default) or bilinear");
     command->add_option("-o,--out", options->file, "Output PNG");

@@ -1,0 +1,178 @@
+#version 450 core
+// Fragment stage of the GDM program: the paper's per-pixel algorithm (Sec. 3.2, "PixelShading"), as
+// emulateGdm (src/gdm/gdm_trace.cpp) runs it on the CPU.
+//
+// The fragment lies on the face through which the pixel's ray enters its prism (back faces are culled): T_in
+// is its interpolated texture position. The exit point is the nearest other face of the prism along the
+// ray, found by ray / triangle intersection with the prism's 8 triangles (the fins split as the shell splits
+// them; exact where the paper intersects planes), and T_out is the hit triangle's texture positions
+// interpolated at it. With dt = |T_out - T_in| and V = (T_out - T_in) / dt in the isotropic frame, the GDM
+// gives d = d(T_in, V); d < dt (and not an exit) is a hit at T = T_in + d V, whose world position,
+// P_in + d / dt (P_out - P_in), sets the depth. Otherwise the fragment is discarded: the prism the ray goes
+// on into draws its own entry face.
+//
+// The GDM lookup is emulateGdm's: trilinear over the voxel centres (wrapping in u, v, clamped in w), the
+// nearest direction sample or bilinear between four, on substituted values (a raw miss counts as the
+// distance to the slab's boundary, gdm_svd.h), the exit rule d >= b - tolerance on the same mix of
+// boundary distances. Values come from the raw GDM or from the SVD's maps, in storage buffers laid out as
+// their files are (gdm_asset.h): W rows x rank, E rank x cols, the paper's layout (rows (x, y, phi),
+// columns (theta, z)).
+//
+// Outputs (uOutput): 0 uvw: (u, v modulo 1, w, 1); 1 shadow: (lit, 0, 0, 1), lit iff the lookup towards the
+// light from one voxel back along V, leaving out the corners below half a voxel, is an exit (emulateGdm's
+// rule, with the object-space light direction as L_t, the paper's choice).
+
+in VertexData {
+    vec3 worldPosition;
+    vec3 texturePosition;
+    flat uint prism;
+} vIn;
+
+layout(location = 0) out vec4 fragColor;
+layout(depth_any) out float gl_FragDepth;
+
+// Per prism, 8 triangles x 3 corners x (world position, texture position): 48 vec4 (w unused).
+layout(std430, binding = 0) readonly buffer PrismFaces { vec4 faces[]; };
+layout(std430, binding = 1) readonly buffer GdmWeights { float weights[]; };
+layout(std430, binding = 2) readonly buffer GdmEigen { float eigenMaps[]; };
+layout(std430, binding = 3) readonly buffer GdmRaw { float rawValues[]; };
+
+uniform mat4 uViewProjection;
+uniform vec3 uEye;
+uniform vec3 uLight;
+uniform int uOutput;       // 0 uvw, 1 shadow
+uniform ivec3 uVoxels;     // Nx, Ny, Nz
+uniform ivec2 uDirections; // Ntheta, Nphi
+uniform float uHeight;     // H
+uniform int uRank;         // k; 0: the raw GDM
+uniform float uTolerance;  // the exit rule's, tile widths along the ray
+uniform bool uBilinearDirections;
+
+const float kPi = 3.14159265358979;
+const float kShadowBackoffVoxels = 1.0;
+const float kShadowDropVoxels = 0.5;
+
+float boundaryDistance(int k, int t) {
+    float z = (float(k) + 0.5) * uHeight / float(uVoxels.z);
+    float c = cos((float(t) + 0.5) * kPi / float(uDirections.x));
+    return c > 0.0 ? (uHeight - z) / c : z / -c;
+}
+
+// The substituted value at voxel (i, j, k), direction (t, s).
+float gdmValue(int i, int j, int k, int t, int s) {
+    if (uRank == 0) {
+        int index = (((k * uVoxels.y + j) * uVoxels.x + i) * uDirections.x + t) * uDirections.y + s;
+        float value = rawValues[index];
+        return isinf(value) ? boundaryDistance(k, t) : value;
+    }
+    int row = s + uDirections.y * (i + uVoxels.x * j);
+    int col = t + uDirections.x * k;
+    int cols = uDirections.x * uVoxels.z;
+    float sum = 0.0;
+    for (int r = 0; r < uRank; ++r) sum += weights[row * uRank + r] * eigenMaps[r * cols + col];
+    return sum;
+}
+
+// d(point, direction): x = distance, y = 1 for an exit (dmax).
+vec2 lookupGdm(vec3 point, vec3 direction, float dropBelow) {
+    float theta = acos(clamp(direction.z, -1.0, 1.0));
+    float phi = atan(direction.y, direction.x);
+    if (phi < 0.0) phi += 2.0 * kPi;
+    int tapT[4];
+    int tapS[4];
+    float tapWeight[4];
+    int taps = 0;
+    if (!uBilinearDirections) {
+        tapT[0] = clamp(int(theta / kPi * float(uDirections.x)), 0, uDirections.x - 1);
+        tapS[0] = clamp(int(phi / (2.0 * kPi) * float(uDirections.y)), 0, uDirections.y - 1);
+        tapWeight[0] = 1.0;
+        taps = 1;
+    } else {
+        float ft = clamp(theta / kPi * float(uDirections.x) - 0.5, 0.0, float(uDirections.x - 1));
+        float fs = phi / (2.0 * kPi) * float(uDirections.y) - 0.5;
+        float t0 = floor(ft), s0 = floor(fs);
+        float at = ft - t0, as = fs - s0;
+        for (int corner = 0; corner < 4; ++corner) {
+            int dt = corner & 1, ds = corner >> 1;
+            float weight = (dt == 1 ? at : 1.0 - at) * (ds == 1 ? as : 1.0 - as);
+            if (weight == 0.0) continue;
+            tapT[taps] = min(int(t0) + dt, uDirections.x - 1);
+            tapS[taps] = ((int(s0) + ds) % uDirections.y + uDirections.y) % uDirections.y;
+            tapWeight[taps] = weight;
+            ++taps;
+        }
+    }
+    float fx = point.x * float(uVoxels.x) - 0.5;
+    float fy = point.y * float(uVoxels.y) - 0.5;
+    float fz = clamp(point.z / uHeight * float(uVoxels.z) - 0.5, 0.0, float(uVoxels.z - 1));
+    float x0 = floor(fx), y0 = floor(fy), z0 = floor(fz);
+    float ax = fx - x0, ay = fy - y0, az = fz - z0;
+    float d = 0.0, b = 0.0, total = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        int dx = corner & 1, dy = (corner >> 1) & 1, dz = corner >> 2;
+        float weight = (dx == 1 ? ax : 1.0 - ax) * (dy == 1 ? ay : 1.0 - ay) * (dz == 1 ? az : 1.0 - az);
+        if (weight == 0.0) continue;
+        int i = ((int(x0) + dx) % uVoxels.x + uVoxels.x) % uVoxels.x;
+        int j = ((int(y0) + dy) % uVoxels.y + uVoxels.y) % uVoxels.y;
+        int k = min(int(z0) + dz, uVoxels.z - 1);
+        for (int tap = 0; tap < taps; ++tap) {
+            float value = gdmValue(i, j, k, tapT[tap], tapS[tap]);
+            if (value < dropBelow) continue;
+            float w = weight * tapWeight[tap];
+            d += w * value;
+            b += w * boundaryDistance(k, tapT[tap]);
+            total += w;
+        }
+    }
+    if (total == 0.0) return vec2(0.0, 0.0);
+    if (d >= b - uTolerance) return vec2(1e30, 1.0);
+    return vec2(max(d, 0.0), 0.0);
+}
+
+void main() {
+    vec3 origin = vIn.worldPosition;
+    vec3 ray = normalize(origin - uEye);
+    // The exit: the nearest of the prism's faces past the entry.
+    float tExit = 1e30;
+    vec3 textureExit = vIn.texturePosition;
+    int base = int(vIn.prism) * 48;
+    for (int f = 0; f < 8; ++f) {
+        vec3 p0 = faces[base + 6 * f + 0].xyz, p1 = faces[base + 6 * f + 2].xyz, p2 = faces[base + 6 * f + 4].xyz;
+        // Moeller-Trumbore.
+        vec3 e1 = p1 - p0, e2 = p2 - p0;
+        vec3 q = cross(ray, e2);
+        float det = dot(e1, q);
+        if (abs(det) < 1e-12) continue;
+        vec3 s = origin - p0;
+        float beta = dot(s, q) / det;
+        vec3 r = cross(s, e1);
+        float gamma = dot(ray, r) / det;
+        float t = dot(e2, r) / det;
+        const float edge = -1e-5;
+        if (beta < edge || gamma < edge || beta + gamma > 1.0 - edge) continue;
+        if (t <= 1e-6 || t >= tExit) continue;
+        tExit = t;
+        textureExit = (1.0 - beta - gamma) * faces[base + 6 * f + 1].xyz + beta * faces[base + 6 * f + 3].xyz +
+                      gamma * faces[base + 6 * f + 5].xyz;
+    }
+    if (tExit >= 1e30) discard;
+    vec3 segment = textureExit - vIn.texturePosition;
+    float dt = length(segment);
+    if (dt <= 0.0) discard;
+    vec3 direction = segment / dt;
+    vec2 hit = lookupGdm(vIn.texturePosition, direction, -1.0);
+    if (hit.y > 0.5 || hit.x >= dt) discard;
+    vec3 texturePoint = vIn.texturePosition + hit.x * direction;
+    vec3 worldPoint = origin + (hit.x / dt) * tExit * ray;
+    vec4 clip = uViewProjection * vec4(worldPoint, 1.0);
+    gl_FragDepth = (gl_DepthRange.diff * (clip.z / clip.w) + gl_DepthRange.near + gl_DepthRange.far) * 0.5;
+    if (uOutput == 0) {
+        fragColor = vec4(fract(texturePoint.x), fract(texturePoint.y), clamp(texturePoint.z / uHeight, 0.0, 1.0), 1.0);
+    } else {
+        float voxel = uHeight / float(uVoxels.z);
+        vec3 back = texturePoint - kShadowBackoffVoxels * voxel * direction;
+        vec3 toLight = normalize(uLight - worldPoint);
+        vec2 shadow = lookupGdm(back, toLight, kShadowDropVoxels * voxel);
+        fragColor = vec4(shadow.y, 0.0, 0.0, 1.0);
+    }
+}

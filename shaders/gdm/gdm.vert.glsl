@@ -1,0 +1,24 @@
+#version 450 core
+// Vertex stage of the GDM program (Wang et al. 2004, Sec. 3.2 and 4.2): the faces of the prism shell
+// (strata/gdm/prism_shell.h) that a ray can enter a prism through, its top and its fins, each vertex with
+// its world position, its texture-space position in the isotropic frame (u, v, w H) of CONVENTIONS §8, and
+// its prism.
+
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aTexture;
+layout(location = 2) in uint aPrism;
+
+uniform mat4 uViewProjection;
+
+out VertexData {
+    vec3 worldPosition;
+    vec3 texturePosition;
+    flat uint prism;
+} vOut;
+
+void main() {
+    vOut.worldPosition = aPosition;
+    vOut.texturePosition = aTexture;
+    vOut.prism = aPrism;
+    gl_Position = uViewProjection * vec4(aPosition, 1.0);
+}

@@ -1,0 +1,119 @@
+// The GDM verification scene in OpenGL (strata/gl/gdm_renderer.h) against its CPU twin, emulateGdm: the same
+// algorithm in float on the GPU must give the same pictures (issue 18: identical hit / miss on >= 99.5 % of
+// the pixels), raw and SVD, and against the exact reference as closely as the CPU does.
+#include "gl_test_support.h"
+
+#include "strata/core/error.h"
+#include "strata/gdm/gdm_bake.h"
+#include "strata/gdm/gdm_svd.h"
+#include "strata/gdm/gdm_trace.h"
+#include "strata/gdm/mesostructure.h"
+#include "strata/gdm/mesostructure_mesh.h"
+#include "strata/gl/gdm_renderer.h"
+#include "strata/gl/program.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace strata {
+namespace {
+
+using test::GlTest;
+
+class GdmRendererGl : public GlTest {};
+
+struct Baked {
+    SolidMesh solid;
+    Gdm gdm;
+};
+
+const Baked& weave() {
+    static const Baked baked = [] {
+        Baked b;
+        b.solid = meshMesostructure(makeMesostructure("weave"), 32);
+        b.gdm = bakeGdm(b.solid, GdmDims{32, 32, 8, 16, 32});
+        return b;
+    }();
+    return baked;
+}
+
+Camera viewAt(double degrees) {
+    const double a = degrees * 3.14159265358979323846 / 180.0;
+    Camera camera;
+    camera.eye = glm::dvec3(0.5, 0.5 - 1.6 * std::sin(a), 1.6 * std::cos(a));
+    camera.target = glm::dvec3(0.5, 0.5, 0.0);
+    camera.fovYDegrees = 45.0;
+    return camera;
+}
+
+const glm::dvec3 kLight(0.5, -0.6, 1.1);
+constexpr int kSize = 128;
+
+TEST_F(GdmRendererGl, RawMatchesTheCpuEmulation) {
+    const Gdm& gdm = weave().gdm;
+    const double voxel = gdm.height / gdm.dims.nz;
+    for (const double degrees : {5.0, 45.0, 75.0}) {
+        const Camera camera = viewAt(degrees);
+        const GdmSceneImages cpu = emulateGdm(gdm, camera, kLight, kSize, kSize);
+        const GdmSceneImages gpu = gl::renderGdmScene(gdm, camera, kLight, kSize, kSize);
+        const GdmSceneAccuracy same = compareGdmScenes(cpu, gpu, gdm.height, voxel);
+        // The issue's bound: the float shader and the double emulation agree on hit / miss almost
+        // everywhere; where they disagree a lookup sits on the d < dt edge within float rounding.
+        EXPECT_LE(same.hitMissDisagreePercent, 0.5) << degrees;
+        // Where both hit, the hit points agree to float rounding of distances of a tile width or so, far
+        // below a voxel, except where a rounding flip of d < dt in one prism moves the hit on.
+        EXPECT_LT(same.uvwMeanVoxels, 0.01) << degrees;
+        EXPECT_GE(same.shadowAgreePercent, 99.5) << degrees;
+        EXPECT_GT(same.bothHitPixels, std::size_t(kSize * kSize / 5)) << degrees;
+    }
+}
+
+TEST_F(GdmRendererGl, SvdMatchesTheCpuEmulationAndTheReference) {
+    const Gdm& gdm = weave().gdm;
+    const double voxel = gdm.height / gdm.dims.nz;
+    const GdmSvd svd = compressGdm(gdm, 8);
+    const Camera camera = viewAt(45.0);
+    const GdmSceneImages cpu = emulateGdm(svd, camera, kLight, kSize, kSize);
+    const GdmSceneImages gpu = gl::renderGdmScene(svd, camera, kLight, kSize, kSize);
+    const GdmSceneAccuracy same = compareGdmScenes(cpu, gpu, gdm.height, voxel);
+    EXPECT_LE(same.hitMissDisagreePercent, 0.5);
+    EXPECT_LT(same.uvwMeanVoxels, 0.01);
+    // Against the exact reference the GPU is as good as the CPU (within the pixels they disagree on).
+    const GdmSceneImages reference = renderGdmReference(weave().solid, camera, kLight, kSize, kSize);
+    const GdmSceneAccuracy cpuError = compareGdmScenes(reference, cpu, gdm.height, voxel);
+    const GdmSceneAccuracy gpuError = compareGdmScenes(reference, gpu, gdm.height, voxel);
+    EXPECT_NEAR(gpuError.hitMissDisagreePercent, cpuError.hitMissDisagreePercent, 0.5);
+    EXPECT_NEAR(gpuError.uvwMeanVoxels, cpuError.uvwMeanVoxels, 0.05);
+}
+
+// Mesa compiles what stricter drivers refuse; the reference compiler holds the GDM program to the GLSL 4.50
+// specification, as ProgramVariants.PassGlslangValidator does the relief programs.
+TEST(GdmProgram, PassesGlslangValidator) {
+    const std::string validator = STRATA_GLSLANG_VALIDATOR;
+    if (validator.empty())
+        FAIL() << "glslangValidator not found (glslang-tools); run scripts/install-deps.sh";
+    const std::filesystem::path dir = test::failureDirectory("glslang_gdm");
+    std::filesystem::create_directories(dir);
+    std::string command = "'" + validator + "'";
+    for (const char* stage : {"vert", "frag"}) {
+        const std::filesystem::path file = dir / (std::string("gdm.") + stage);
+        std::ofstream(file)
+            << gl::ShaderLibrary::embedded().preprocess(std::string("gdm/gdm.") + stage + ".glsl", {}).text;
+        command += " '" + file.string() + "'";
+    }
+    EXPECT_EQ(std::system((command + " > '" + (dir / "log.txt").string() + "' 2>&1").c_str()), 0)
+        << "see " << (dir / "log.txt").string();
+}
+
+TEST_F(GdmRendererGl, RefusesOtherLayouts) {
+    const GdmSvd svd = compressGdm(weave().gdm, 2, GdmLayout::XyzByThetaPhi);
+    EXPECT_THROW(gl::renderGdmScene(svd, viewAt(45.0), kLight, 16, 16), Error);
+}
+
+}  // namespace
+}  // namespace strata
