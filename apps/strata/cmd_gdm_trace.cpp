@@ -16,11 +16,14 @@
 #include "strata/gl/context.h"
 #include "strata/gl/gdm_renderer.h"
 #include "strata/image/image_io.h"
+#include "strata/mesh/mesh.h"
+#include "strata/scene/scene.h"
 
 #include <chrono>
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -49,9 +52,12 @@ struct GdmTraceOptions {
     std::string light = kDefaultLight;
     std::string output;
     bool reference = false;
-    bool gl = false;     // the paper's algorithm in OpenGL (strata::gl::renderGdmScene) instead of on the CPU
-    std::string gdm;     // svd (default) | raw; empty: not given
-    std::string lookup;  // nearest (default) | bilinear; empty: not given
+    bool gl = false;   // the paper's algorithm in OpenGL (strata::gl::renderGdmScene) instead of on the CPU
+    std::string mesh;  // --gl only: a built-in or a mesh file whose prism shell is drawn
+    double tiling = 1.0;              // tiles per uv unit on --mesh
+    std::optional<double> thickness;  // T in world units on --mesh; default H times a tile's world length
+    std::string gdm;                  // svd (default) | raw; empty: not given
+    std::string lookup;               // nearest (default) | bilinear; empty: not given
     fs::path file;
 };
 
@@ -89,6 +95,17 @@ void runGdmTrace(const GdmTraceOptions& options) {
     if (options.reference && (!options.gdm.empty() || !options.lookup.empty()))
         throw Error(ErrorKind::Usage,
                     "gdm trace: --reference traces the solid mesh; --gdm and --lookup are for the emulation");
+    if (!options.mesh.empty() && !options.gl)
+        throw Error(ErrorKind::Usage,
+                    "gdm trace: --mesh draws the prism shell of a mesh in OpenGL: give --gl with it (the CPU "
+                    "emulation and the reference are the flat quad's)");
+    if ((options.tiling != 1.0 || options.thickness) && options.mesh.empty())
+        throw Error(ErrorKind::Usage, "gdm trace: --tiling and --thickness are for --mesh");
+    if (!(std::isfinite(options.tiling) && options.tiling > 0.0))
+        throw Error(ErrorKind::Usage, "gdm trace: --tiling must be > 0, got " + formatNumber(options.tiling));
+    if (options.thickness && !(std::isfinite(*options.thickness) && *options.thickness > 0.0))
+        throw Error(ErrorKind::Usage, "gdm trace: --thickness must be > 0 world units, got " +
+                                          formatNumber(*options.thickness));
     const std::string gdmName = options.gdm.empty() ? "svd" : options.gdm;
     if (gdmName != "svd" && gdmName != "raw")
         throw Error(ErrorKind::Usage, "gdm trace: --gdm must be svd or raw, got \"" + gdmName + "\"");
@@ -133,8 +150,22 @@ void runGdmTrace(const GdmTraceOptions& options) {
     std::string what;
     // The GL path needs a context for as long as it draws; made before the asset's work starts failing late.
     std::unique_ptr<gl::HeadlessContext> context;
-    const std::string engine = options.gl ? ", OpenGL" : "";
+    std::string engine = options.gl ? ", OpenGL" : "";
     if (options.gl) context = gl::HeadlessContext::create();
+    // --mesh: its prism shell instead of the quad's; framed like `strata render` unless a view is given.
+    std::optional<Mesh> mesh;
+    PrismShellOptions shell;
+    Camera view = camera;
+    if (!options.mesh.empty()) {
+        Scene scene;
+        scene.mesh = options.mesh;
+        mesh = loadSceneMesh(scene);
+        shell.tiling = glm::dvec2(options.tiling);
+        shell.thickness = options.thickness;
+        engine += ", on " + mesh->name;
+        if (options.eye == kDefaultEye && options.target == kDefaultTarget)
+            view = frameCamera(meshBounds(*mesh), double(width) / double(height), options.fov);
+    }
     if (options.reference) {
         if (!asset.solid)
             throw Error(
@@ -153,15 +184,17 @@ void runGdmTrace(const GdmTraceOptions& options) {
                             "or trace the SVD (--gdm svd)");
         what = "the paper's algorithm on the raw GDM, " + lookupName + " directions" + engine;
         progress("running the paper's algorithm on the raw GDM at " + pixels + engine);
-        images = options.gl ? gl::renderGdmScene(*asset.raw, camera, light, width, height, lookup)
-                            : emulateGdm(*asset.raw, camera, light, width, height, lookup);
+        images = mesh ? gl::renderGdmMesh(*asset.raw, *mesh, shell, view, light, width, height, lookup)
+                 : options.gl ? gl::renderGdmScene(*asset.raw, camera, light, width, height, lookup)
+                              : emulateGdm(*asset.raw, camera, light, width, height, lookup);
     } else {
         what = "the paper's algorithm on the rank-" + std::to_string(asset.svd.rank) + " SVD, " + lookupName +
                " directions" + engine;
         progress("running the paper's algorithm on the rank-" + std::to_string(asset.svd.rank) + " SVD at " +
                  pixels + engine);
-        images = options.gl ? gl::renderGdmScene(asset.svd, camera, light, width, height, lookup)
-                            : emulateGdm(asset.svd, camera, light, width, height, lookup);
+        images = mesh         ? gl::renderGdmMesh(asset.svd, *mesh, shell, view, light, width, height, lookup)
+                 : options.gl ? gl::renderGdmScene(asset.svd, camera, light, width, height, lookup)
+                              : emulateGdm(asset.svd, camera, light, width, height, lookup);
     }
 
     // CONVENTIONS §8: 16-bit, round(value * 65535), no dither. uvw's fourth channel is 1 on a hit and its
@@ -210,6 +243,14 @@ void addGdmTraceCommand(CLI::App& gdm) {
     command->add_flag("--gl", options->gl,
                       "Run the paper's algorithm in OpenGL 4.5 (a fragment shader on the quad's prism shell) "
                       "instead of on the CPU; the same pictures to float rounding");
+    command->add_option(
+        "--mesh", options->mesh,
+        "With --gl: draw the prism shell of this mesh (a built-in name or an OBJ / glTF / OFF "
+        "file) instead of the quad's; framed automatically unless --eye / --target are given");
+    command->add_option("--tiling", options->tiling, "With --mesh: tiles per uv unit")->capture_default_str();
+    command->add_option("--thickness", options->thickness,
+                        "With --mesh: the shell's thickness T in world units (default: H times the world "
+                        "length of one tile)");
     command->add_option("--lookup", options->lookup,
                         "Direction lookup of the emulation: nearest (default) or bilinear");
     command->add_option("-o,--out", options->file, "Output PNG");

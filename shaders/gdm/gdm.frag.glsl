@@ -20,7 +20,8 @@
 //
 // Outputs (uOutput): 0 uvw: (u, v modulo 1, w, 1); 1 shadow: (lit, 0, 0, 1), lit iff the lookup towards the
 // light from one voxel back along V, leaving out the corners below half a voxel, is an exit (emulateGdm's
-// rule, with the object-space light direction as L_t, the paper's choice).
+// rule, with the object-space light direction as L_t, the paper's choice); 2 prism id + 1, no GDM (the crack
+// test of gdm_renderer.h).
 
 in VertexData {
     vec3 worldPosition;
@@ -40,7 +41,7 @@ layout(std430, binding = 3) readonly buffer GdmRaw { float rawValues[]; };
 uniform mat4 uViewProjection;
 uniform vec3 uEye;
 uniform vec3 uLight;
-uniform int uOutput;       // 0 uvw, 1 shadow
+uniform int uOutput;       // 0 uvw, 1 shadow, 2 the prism's id + 1 (the crack test)
 uniform ivec3 uVoxels;     // Nx, Ny, Nz
 uniform ivec2 uDirections; // Ntheta, Nphi
 uniform float uHeight;     // H
@@ -130,6 +131,11 @@ vec2 lookupGdm(vec3 point, vec3 direction, float dropBelow) {
 }
 
 void main() {
+    if (uOutput == 2) {
+        fragColor = vec4(float(vIn.prism + 1u), 0.0, 0.0, 1.0);
+        gl_FragDepth = gl_FragCoord.z;
+        return;
+    }
     vec3 origin = vIn.worldPosition;
     vec3 ray = normalize(origin - uEye);
     // The exit: the nearest of the prism's faces past the entry.

@@ -83,23 +83,35 @@ TileMeasure tileMeasure(const MeshVertex& a, const MeshVertex& b, const MeshVert
 
 }  // namespace
 
-std::array<ShellTriangle, 8> prismTriangles(const PrismShell& shell, std::size_t p) {
+std::array<std::array<PrismCorner, 3>, 8> prismTriangleCorners(const PrismShell& shell, std::size_t p) {
     const auto& prism = shell.prisms[p];
-    std::array<ShellTriangle, 8> faces;
-    faces[0] = {shell.base[prism[0]], shell.base[prism[1]], shell.base[prism[2]]};
-    faces[1] = {shell.top[prism[0]], shell.top[prism[1]], shell.top[prism[2]]};
+    std::array<std::array<PrismCorner, 3>, 8> faces;
+    faces[0] = {{{0, false}, {1, false}, {2, false}}};
+    faces[1] = {{{0, true}, {1, true}, {2, true}}};
     for (int e = 0; e < 3; ++e) {
-        const std::uint32_t a = prism[e], b = prism[(e + 1) % 3];
-        const glm::vec3 &ba = shell.base[a], &bb = shell.base[b], &ta = shell.top[a], &tb = shell.top[b];
+        const int a = e, b = (e + 1) % 3;
         // Outward: the prism lies to the left of a -> b seen along +N.
-        if (a < b) {  // diagonal base a - top b
-            faces[2 + 2 * e] = {ba, bb, tb};
-            faces[3 + 2 * e] = {ba, tb, ta};
+        if (prism[a] < prism[b]) {  // diagonal base a - top b
+            faces[2 + 2 * e] = {{{a, false}, {b, false}, {b, true}}};
+            faces[3 + 2 * e] = {{{a, false}, {b, true}, {a, true}}};
         } else {  // diagonal base b - top a
-            faces[2 + 2 * e] = {ba, bb, ta};
-            faces[3 + 2 * e] = {bb, tb, ta};
+            faces[2 + 2 * e] = {{{a, false}, {b, false}, {a, true}}};
+            faces[3 + 2 * e] = {{{b, false}, {b, true}, {a, true}}};
         }
     }
+    return faces;
+}
+
+std::array<ShellTriangle, 8> prismTriangles(const PrismShell& shell, std::size_t p) {
+    const auto& prism = shell.prisms[p];
+    const auto corners = prismTriangleCorners(shell, p);
+    std::array<ShellTriangle, 8> faces;
+    for (int f = 0; f < 8; ++f)
+        for (int c = 0; c < 3; ++c) {
+            const PrismCorner corner = corners[f][c];
+            const std::uint32_t s = prism[corner.corner];
+            faces[f][c] = corner.top ? shell.top[s] : shell.base[s];
+        }
     return faces;
 }
 

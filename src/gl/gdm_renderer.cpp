@@ -9,11 +9,14 @@
 #include "strata/mesh/builtin_meshes.h"
 
 #include <epoxy/gl.h>
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -61,33 +64,55 @@ struct Vertex {
     std::uint32_t prism;
 };
 
-GdmSceneImages render(const GdmSource& source, const Camera& camera, const glm::dvec3& light, int width,
-                      int height, GdmDirectionLookup directions) {
+// What a draw shows: the GDM (uvw, then shadow), or the prism ids of the base faces or of the shell's faces
+// (top and fins), for the crack test.
+enum class Pass { Gdm, BaseIds, ShellIds };
+
+GdmSceneImages render(const GdmSource& source, const Mesh& mesh, const PrismShellOptions& shellOptions,
+                      const Camera& camera, const glm::dvec3& light, int width, int height,
+                      GdmDirectionLookup directions, Pass pass = Pass::Gdm) {
     validateCamera(camera);
     if (width < 1 || height < 1 || width > Image::kMaxDimension || height > Image::kMaxDimension)
         throw Error(ErrorKind::InvalidInput, "GDM scene: picture size " + std::to_string(width) + " x " +
                                                  std::to_string(height) + " is outside [1, " +
                                                  std::to_string(Image::kMaxDimension) + "]");
     const double shellHeight = source.height;
-    PrismShellOptions options;
+    PrismShellOptions options = shellOptions;
     options.height = shellHeight;
-    const PrismShell shell = buildPrismShell(makeBuiltinMesh("quad"), options);
+    const PrismShell shell = buildPrismShell(mesh, options);
 
     // The faces a ray can enter a prism through (top and fins), and every prism's 8 triangles for the exit
-    // search. On the quad, world space is the isotropic texture frame.
+    // search, each corner with its world position and its texture position in the isotropic frame
+    // (tiling * uv, w H).
     std::vector<Vertex> vertices;
     std::vector<glm::vec4> faces;
+    vertices.reserve(shell.prisms.size() * 21);
+    faces.reserve(shell.prisms.size() * 48);
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
     for (std::size_t p = 0; p < shell.prisms.size(); ++p) {
-        const auto triangles = prismTriangles(shell, p);
+        const auto triangles = prismTriangleCorners(shell, p);
         for (int f = 0; f < 8; ++f)
-            for (const glm::vec3& corner : triangles[f]) {
-                faces.emplace_back(corner, 0.0f);
-                faces.emplace_back(corner, 0.0f);  // texture position = world position here
-                if (f >= 1)
+            for (const PrismCorner& corner : triangles[f]) {
+                const std::uint32_t s = shell.prisms[p][corner.corner];
+                const glm::vec3 world = corner.top ? shell.top[s] : shell.base[s];
+                const glm::vec2 uv = mesh.vertices[shell.corners[p][corner.corner]].uv;
+                const glm::vec3 texture(float(options.tiling.x * double(uv.x)),
+                                        float(options.tiling.y * double(uv.y)),
+                                        corner.top ? float(shellHeight) : 0.0f);
+                faces.emplace_back(world, 0.0f);
+                faces.emplace_back(texture, 0.0f);
+                lo = glm::min(lo, glm::dvec3(world));
+                hi = glm::max(hi, glm::dvec3(world));
+                if (pass == Pass::BaseIds ? f == 0 : f >= 1)
                     vertices.push_back(
-                        {{corner.x, corner.y, corner.z}, {corner.x, corner.y, corner.z}, std::uint32_t(p)});
+                        {{world.x, world.y, world.z}, {texture.x, texture.y, texture.z}, std::uint32_t(p)});
             }
     }
+    // Near and far planes around the shell's bounds.
+    const double radius = 0.5 * glm::length(hi - lo);
+    const double distance = glm::length(0.5 * (lo + hi) - camera.eye);
+    const double farPlane = distance + 2.0 * radius + 1e-6;
+    const double nearPlane = std::max(farPlane * 1e-5, distance - 2.0 * radius);
 
     const BindingGuard guard;
     RenderTarget target;
@@ -114,7 +139,7 @@ GdmSceneImages render(const GdmSource& source, const Camera& camera, const glm::
     checkGl("GDM scene: uploading");
 
     const glm::dmat4 viewProjection =
-        projectionMatrix(camera, double(width) / double(height), 1e-3, 100.0) * viewMatrix(camera);
+        projectionMatrix(camera, double(width) / double(height), nearPlane, farPlane) * viewMatrix(camera);
     const glm::mat4 viewProjectionF(viewProjection);
     const GLuint id = program.id();
     glUseProgram(id);
@@ -138,14 +163,17 @@ GdmSceneImages render(const GdmSource& source, const Camera& camera, const glm::
     glViewport(0, 0, width, height);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
-    glFrontFace(GL_CCW);
+    if (pass != Pass::BaseIds) {  // the shell as the GDM pass draws it: entry faces only
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+        glFrontFace(GL_CCW);
+    }
     glDisable(GL_BLEND);
 
     GdmSceneImages images{Image(width, height, 4), Image(width, height, 1), Image(width, height, 1)};
     std::vector<float> pixels(std::size_t(width) * std::size_t(height) * 4);
-    for (int output = 0; output < 2; ++output) {
+    const int firstOutput = pass == Pass::Gdm ? 0 : 2, lastOutput = pass == Pass::Gdm ? 1 : 2;
+    for (int output = firstOutput; output <= lastOutput; ++output) {
         glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
         glClearDepth(1.0);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -160,7 +188,9 @@ GdmSceneImages render(const GdmSource& source, const Camera& camera, const glm::
                 // GL's row 0 is the bottom one; the picture's is the top (CONVENTIONS §7).
                 const float* p = pixels.data() + (std::size_t(height - 1 - y) * std::size_t(width) + x) * 4;
                 const bool hit = p[3] > 0.5f;
-                if (output == 0) {
+                if (output == 2) {
+                    images.mask.at(x, y) = hit ? p[0] : 0.0f;  // the prism id + 1
+                } else if (output == 0) {
                     for (int c = 0; c < 4; ++c) images.uvw.at(x, y, c) = hit ? p[c] : 0.0f;
                     images.mask.at(x, y) = hit ? 1.0f : 0.0f;
                 } else {
@@ -176,8 +206,9 @@ GdmSceneImages render(const GdmSource& source, const Camera& camera, const glm::
 
 }  // namespace
 
-GdmSceneImages renderGdmScene(const Gdm& gdm, const Camera& camera, glm::dvec3 light, int width, int height,
-                              GdmDirectionLookup directions) {
+namespace {
+
+GdmSource rawSource(const Gdm& gdm) {
     validateGdmDims(gdm.dims, gdm.height, "GDM scene");
     if (gdm.values.size() != gdm.dims.valueCount())
         throw Error(ErrorKind::InvalidInput, "GDM scene: the GDM holds " + std::to_string(gdm.values.size()) +
@@ -188,11 +219,10 @@ GdmSceneImages renderGdmScene(const Gdm& gdm, const Camera& camera, glm::dvec3 l
     source.height = gdm.height;
     source.raw = &gdm.values;
     source.tolerance = 1e-4 * gdm.height / gdm.dims.nz;  // emulateGdm's for the raw GDM
-    return render(source, camera, light, width, height, directions);
+    return source;
 }
 
-GdmSceneImages renderGdmScene(const GdmSvd& svd, const Camera& camera, glm::dvec3 light, int width,
-                              int height, GdmDirectionLookup directions) {
+GdmSource svdSource(const GdmSvd& svd) {
     validateGdmDims(svd.dims, svd.height, "GDM scene");
     if (svd.layout != GdmLayout::XyPhiByThetaZ)
         throw Error(ErrorKind::InvalidInput,
@@ -208,7 +238,41 @@ GdmSceneImages renderGdmScene(const GdmSvd& svd, const Camera& camera, glm::dvec
     source.weights = &svd.weights;
     source.eigen = &svd.eigen;
     source.tolerance = svd.exitTolerance;
-    return render(source, camera, light, width, height, directions);
+    return source;
+}
+
+}  // namespace
+
+GdmSceneImages renderGdmScene(const Gdm& gdm, const Camera& camera, glm::dvec3 light, int width, int height,
+                              GdmDirectionLookup directions) {
+    return render(rawSource(gdm), makeBuiltinMesh("quad"), {}, camera, light, width, height, directions);
+}
+
+GdmSceneImages renderGdmScene(const GdmSvd& svd, const Camera& camera, glm::dvec3 light, int width,
+                              int height, GdmDirectionLookup directions) {
+    return render(svdSource(svd), makeBuiltinMesh("quad"), {}, camera, light, width, height, directions);
+}
+
+GdmSceneImages renderGdmMesh(const Gdm& gdm, const Mesh& mesh, const PrismShellOptions& shell,
+                             const Camera& camera, glm::dvec3 light, int width, int height,
+                             GdmDirectionLookup directions) {
+    return render(rawSource(gdm), mesh, shell, camera, light, width, height, directions);
+}
+
+GdmSceneImages renderGdmMesh(const GdmSvd& svd, const Mesh& mesh, const PrismShellOptions& shell,
+                             const Camera& camera, glm::dvec3 light, int width, int height,
+                             GdmDirectionLookup directions) {
+    return render(svdSource(svd), mesh, shell, camera, light, width, height, directions);
+}
+
+Image renderPrismIds(const Mesh& mesh, const PrismShellOptions& shell, const Camera& camera, int width,
+                     int height, PrismFaces faces) {
+    GdmSource source;  // no GDM is read
+    source.height = shell.height;
+    source.dims = GdmDims{1, 1, 1, 1, 1};
+    return render(source, mesh, shell, camera, glm::dvec3(0.0), width, height, GdmDirectionLookup::Nearest,
+                  faces == PrismFaces::Base ? Pass::BaseIds : Pass::ShellIds)
+        .mask;
 }
 
 }  // namespace strata::gl

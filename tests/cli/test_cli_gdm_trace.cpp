@@ -224,6 +224,34 @@ TEST_F(CliGdmTrace, OpenGlDrawsWhatTheCpuEmulates) {
     EXPECT_FALSE(fs::exists(*dir / "refused.png"));
 }
 
+TEST_F(CliGdmTrace, OpenGlDrawsTheShellOfAnyMesh) {
+    // --gl --mesh: the prism shell of a built-in, framed automatically; the weave covers part of the torus.
+    const fs::path weave = *dir / "weave";
+    const auto run =
+        runCli("gdm trace " + quoted(weave) + " --gl --mesh torus --tiling 4 --size 96x72 --output " +
+               "uvw -o " + quoted(*dir / "torus_uvw.png"));
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    EXPECT_NE(run.output.find("on torus"), std::string::npos) << run.output;
+    const Image uvw = readImage(*dir / "torus_uvw.png");
+    int hits = 0;
+    for (int y = 0; y < 72; ++y)
+        for (int x = 0; x < 96; ++x) hits += stored(uvw, x, y, 3) != 0;
+    // The torus fills about a third of the framed picture; the weave's gaps let some rays through.
+    EXPECT_GT(hits, 96 * 72 / 10);
+    EXPECT_LT(hits, 96 * 72 * 9 / 10);
+    // --mesh is the GL renderer's, and --tiling / --thickness are --mesh's.
+    const std::string out = " --output mask -o " + quoted(*dir / "no.png");
+    EXPECT_EQ(runCli("gdm trace " + quoted(weave) + " --mesh torus" + out).exitCode, 1);
+    EXPECT_EQ(runCli("gdm trace " + quoted(weave) + " --gl --tiling 2" + out).exitCode, 1);
+    EXPECT_EQ(runCli("gdm trace " + quoted(weave) + " --gl --mesh torus --thickness -1" + out).exitCode, 1);
+    // A name that is neither a file nor a built-in, as `strata render --mesh` says it: exit 3, naming it.
+    const auto missing =
+        runCli("gdm trace " + quoted(weave) + " --gl --mesh " + quoted(*dir / "none.obj") + out);
+    EXPECT_EQ(missing.exitCode, 3) << missing.output;
+    EXPECT_NE(missing.output.find("none.obj"), std::string::npos) << missing.output;
+    EXPECT_FALSE(fs::exists(*dir / "no.png"));
+}
+
 TEST_F(CliGdmTrace, ErrorsHaveTheirCodesAndWriteNothing) {
     test::ScratchDir out("cli-gdm-trace-errors");
     const std::string weave = quoted(*dir / "weave");

@@ -62,6 +62,15 @@ using ShellTriangle = std::array<glm::vec3, 3>;
 // outward from the prism.
 std::array<ShellTriangle, 8> prismTriangles(const PrismShell& shell, std::size_t p);
 
+// The same triangles as prism corners: which of the prism's three corners (0, 1, 2, the order of
+// PrismShell::prisms and corners), at its base or its top. A renderer gives each corner its texture position
+// (tiling * uv of PrismShell::corners, w = 0 at the base and 1 at the top).
+struct PrismCorner {
+    int corner = 0;
+    bool top = false;
+};
+std::array<std::array<PrismCorner, 3>, 8> prismTriangleCorners(const PrismShell& shell, std::size_t p);
+
 // Builds the shell of `mesh`. Throws Error(InvalidInput) naming the mesh for an empty mesh, indices not in
 // threes or out of range, a position or normal that is not finite, H or a tiling that is not > 0, or a
 // thickness that is given and not > 0 (or the default that comes out 0: a mesh whose uvs are all

@@ -16,6 +16,8 @@
 #include "strata/gdm/gdm.h"
 #include "strata/gdm/gdm_svd.h"
 #include "strata/gdm/gdm_trace.h"
+#include "strata/gdm/prism_shell.h"
+#include "strata/mesh/mesh.h"
 #include "strata/scene/camera.h"
 
 #include <glm/vec3.hpp>
@@ -26,5 +28,25 @@ GdmSceneImages renderGdmScene(const Gdm& gdm, const Camera& camera, glm::dvec3 l
                               GdmDirectionLookup directions = GdmDirectionLookup::Nearest);
 GdmSceneImages renderGdmScene(const GdmSvd& svd, const Camera& camera, glm::dvec3 light, int width,
                               int height, GdmDirectionLookup directions = GdmDirectionLookup::Nearest);
+
+// The same algorithm on the prism shell of any mesh (buildPrismShell with `shell`; its height is the GDM's
+// H): each prism corner's texture position is (tiling * uv of its mesh vertex, 0 at the base or H at the
+// top), and the light direction in texture space is the world one (the paper's approximation). The
+// outputs are those of GdmSceneImages, with u, v the tile coordinates modulo 1: the mask and uvw of
+// CONVENTIONS §8 on a curved base. Throws as renderGdmScene, and as buildPrismShell for the mesh.
+GdmSceneImages renderGdmMesh(const Gdm& gdm, const Mesh& mesh, const PrismShellOptions& shell,
+                             const Camera& camera, glm::dvec3 light, int width, int height,
+                             GdmDirectionLookup directions = GdmDirectionLookup::Nearest);
+GdmSceneImages renderGdmMesh(const GdmSvd& svd, const Mesh& mesh, const PrismShellOptions& shell,
+                             const Camera& camera, glm::dvec3 light, int width, int height,
+                             GdmDirectionLookup directions = GdmDirectionLookup::Nearest);
+
+// The crack test's pictures: each pixel the id + 1 of the nearest prism face that covers it (0: none), for
+// the prisms' base faces (the mesh itself, no culling) or for the shell's faces as the GDM pass draws them
+// (tops and fins, back faces culled: the faces a ray enters a prism through). A ray that reaches the base
+// must enter the shell first, so a pixel covered by the base but by no entry face is a crack.
+enum class PrismFaces { Base, Shell };
+Image renderPrismIds(const Mesh& mesh, const PrismShellOptions& shell, const Camera& camera, int width,
+                     int height, PrismFaces faces);
 
 }  // namespace strata::gl
