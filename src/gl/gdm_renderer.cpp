@@ -14,25 +14,16 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace strata::gl {
 namespace {
-
-// What the fragment shader reads of the GDM: the raw values, or the SVD's maps.
-struct GdmSource {
-    GdmDims dims;
-    double height = 0.0;
-    int rank = 0;  // 0: raw
-    const std::vector<float>* raw = nullptr;
-    const std::vector<float>* weights = nullptr;
-    const std::vector<float>* eigen = nullptr;
-    double tolerance = 0.0;
-};
 
 // A buffer object that deletes itself.
 struct Buffer {
@@ -41,8 +32,11 @@ struct Buffer {
     ~Buffer() { glDeleteBuffers(1, &id); }
     Buffer(const Buffer&) = delete;
     Buffer& operator=(const Buffer&) = delete;
+    // Replaces the contents (a new store each time: the sizes change with the GDM or the mesh).
     template <class T>
     void store(const std::vector<T>& data) {
+        glDeleteBuffers(1, &id);
+        glCreateBuffers(1, &id);
         // A zero-size buffer cannot be bound as storage on every driver: keep at least one element.
         const std::size_t bytes = std::max<std::size_t>(data.size() * sizeof(T), 16);
         glNamedBufferStorage(id, GLsizeiptr(bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -64,29 +58,165 @@ struct Vertex {
     std::uint32_t prism;
 };
 
-// What a draw shows: the GDM (uvw, then shadow), or the prism ids of the base faces or of the shell's faces
-// (top and fins), for the crack test.
-enum class Pass { Gdm, BaseIds, ShellIds };
-
-GdmSceneImages render(const GdmSource& source, const Mesh& mesh, const PrismShellOptions& shellOptions,
-                      const Camera& camera, const glm::dvec3& light, int width, int height,
-                      GdmDirectionLookup directions, Pass pass = Pass::Gdm) {
-    validateCamera(camera);
+void checkPicture(int width, int height) {
     if (width < 1 || height < 1 || width > Image::kMaxDimension || height > Image::kMaxDimension)
         throw Error(ErrorKind::InvalidInput, "GDM scene: picture size " + std::to_string(width) + " x " +
                                                  std::to_string(height) + " is outside [1, " +
                                                  std::to_string(Image::kMaxDimension) + "]");
-    const double shellHeight = source.height;
-    PrismShellOptions options = shellOptions;
-    options.height = shellHeight;
-    const PrismShell shell = buildPrismShell(mesh, options);
+}
 
-    // The faces a ray can enter a prism through (top and fins), and every prism's 8 triangles for the exit
-    // search, each corner with its world position and its texture position in the isotropic frame
-    // (tiling * uv, w H).
-    std::vector<Vertex> vertices;
+}  // namespace
+
+struct GdmRenderer::Impl {
+    Program program;
+    RenderTarget target;
+    // The GDM: dims, H, rank (0: raw), the exit rule's tolerance, and its buffers.
+    std::optional<GdmDims> dims;
+    double shellHeight = 0.0;  // H
+    int rank = 0;
+    double tolerance = 0.0;
+    Buffer weights, eigen, raw;
+    // The mesh's shell: entry faces (tops and fins) and base faces to draw, every prism's 8 triangles for
+    // the exit search, and the shell's bounds.
+    bool hasMesh = false;
+    Buffer entryVertices, baseVertices, faces;
+    GLsizei entryCount = 0, baseCount = 0;
+    VertexArray entryArray, baseArray;
+    glm::dvec3 lo{0.0}, hi{0.0};
+
+    void setGdm(const GdmDims& d, double h, int k, double tol) {
+        dims = d;
+        shellHeight = h;
+        rank = k;
+        tolerance = tol;
+        hasMesh = false;  // the shell's thickness and texture positions depend on H
+    }
+
+    static void describe(const VertexArray& array, const Buffer& buffer) {
+        glVertexArrayVertexBuffer(array.id, 0, buffer.id, 0, sizeof(Vertex));
+        for (GLuint a = 0; a < 3; ++a) {
+            glEnableVertexArrayAttrib(array.id, a);
+            glVertexArrayAttribBinding(array.id, a, 0);
+        }
+        glVertexArrayAttribFormat(array.id, 0, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
+        glVertexArrayAttribFormat(array.id, 1, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, texture));
+        glVertexArrayAttribIFormat(array.id, 2, 1, GL_UNSIGNED_INT, offsetof(Vertex, prism));
+    }
+
+    // Draws `array` (`count` vertices) into the target with output `output` (gdm.frag.glsl's uOutput), and
+    // reads the RGBA float picture back, top row first.
+    std::vector<float> draw(const VertexArray& array, GLsizei count, int output, bool cull,
+                            const Camera& camera, const glm::dvec3& light, int width, int height,
+                            GdmDirectionLookup directions) {
+        const double radius = 0.5 * glm::length(hi - lo);
+        const double distance = glm::length(0.5 * (lo + hi) - camera.eye);
+        const double farPlane = distance + 2.0 * radius + 1e-6;
+        const double nearPlane = std::max(farPlane * 1e-5, distance - 2.0 * radius);
+        const glm::mat4 viewProjection(
+            projectionMatrix(camera, double(width) / double(height), nearPlane, farPlane) *
+            viewMatrix(camera));
+        glUseProgram(program.id());
+        glUniformMatrix4fv(program.uniformLocation("uViewProjection"), 1, GL_FALSE,
+                           glm::value_ptr(viewProjection));
+        glUniform3f(program.uniformLocation("uEye"), float(camera.eye.x), float(camera.eye.y),
+                    float(camera.eye.z));
+        glUniform3f(program.uniformLocation("uLight"), float(light.x), float(light.y), float(light.z));
+        glUniform3i(program.uniformLocation("uVoxels"), dims->nx, dims->ny, dims->nz);
+        glUniform2i(program.uniformLocation("uDirections"), dims->ntheta, dims->nphi);
+        glUniform1f(program.uniformLocation("uHeight"), float(shellHeight));
+        glUniform1i(program.uniformLocation("uRank"), rank);
+        glUniform1f(program.uniformLocation("uTolerance"), float(tolerance));
+        glUniform1i(program.uniformLocation("uBilinearDirections"),
+                    directions == GdmDirectionLookup::Bilinear);
+        glUniform1i(program.uniformLocation("uOutput"), output);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, faces.id);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, weights.id);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, eigen.id);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, raw.id);
+        glBindVertexArray(array.id);
+        glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer());
+        glViewport(0, 0, width, height);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        if (cull) {  // the faces a ray enters a prism through
+            glEnable(GL_CULL_FACE);
+            glCullFace(GL_BACK);
+            glFrontFace(GL_CCW);
+        } else {
+            glDisable(GL_CULL_FACE);
+        }
+        glDisable(GL_BLEND);
+        glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+        glClearDepth(1.0);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        glDrawArrays(GL_TRIANGLES, 0, count);
+        std::vector<float> pixels(std::size_t(width) * std::size_t(height) * 4);
+        glReadBuffer(GL_COLOR_ATTACHMENT0);
+        glPixelStorei(GL_PACK_ALIGNMENT, 4);
+        glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, pixels.data());
+        glDisable(GL_CULL_FACE);
+        glBindVertexArray(0);
+        glUseProgram(0);
+        checkGl("GdmRenderer: drawing");
+        // GL's row 0 is the bottom one; the picture's is the top (CONVENTIONS §7).
+        std::vector<float> flipped(pixels.size());
+        const std::size_t row = std::size_t(width) * 4;
+        for (int y = 0; y < height; ++y)
+            std::copy_n(pixels.data() + std::size_t(height - 1 - y) * row, row,
+                        flipped.data() + std::size_t(y) * row);
+        return flipped;
+    }
+};
+
+GdmRenderer::GdmRenderer() : mImpl(std::make_unique<Impl>()) {
+    mImpl->program =
+        buildProgram(ShaderLibrary::embedded(), "gdm/gdm.vert.glsl", "gdm/gdm.frag.glsl", {}, "GDM renderer");
+}
+
+GdmRenderer::~GdmRenderer() = default;
+
+void GdmRenderer::setGdm(const Gdm& gdm) {
+    validateGdmDims(gdm.dims, gdm.height, "GdmRenderer");
+    if (gdm.values.size() != gdm.dims.valueCount())
+        throw Error(ErrorKind::InvalidInput,
+                    "GdmRenderer: the GDM holds " + std::to_string(gdm.values.size()) +
+                        " values, its dims need " + std::to_string(gdm.dims.valueCount()));
+    const std::vector<float> none;
+    mImpl->raw.store(gdm.values);
+    mImpl->weights.store(none);
+    mImpl->eigen.store(none);
+    checkGl("GdmRenderer: uploading the GDM");
+    mImpl->setGdm(gdm.dims, gdm.height, 0, 1e-4 * gdm.height / gdm.dims.nz);  // emulateGdm's raw tolerance
+}
+
+void GdmRenderer::setGdm(const GdmSvd& svd) {
+    validateGdmDims(svd.dims, svd.height, "GdmRenderer");
+    if (svd.layout != GdmLayout::XyPhiByThetaZ)
+        throw Error(ErrorKind::InvalidInput, std::string("GdmRenderer: it reads the paper's layout ") +
+                                                 toString(GdmLayout::XyPhiByThetaZ) + ", not " +
+                                                 toString(svd.layout));
+    if (svd.rank < 1 || svd.weights.size() != svd.rows * std::size_t(svd.rank) ||
+        svd.eigen.size() != std::size_t(svd.rank) * svd.cols)
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: the SVD's maps do not match its rank and layout");
+    const std::vector<float> none;
+    mImpl->raw.store(none);
+    mImpl->weights.store(svd.weights);
+    mImpl->eigen.store(svd.eigen);
+    checkGl("GdmRenderer: uploading the SVD");
+    mImpl->setGdm(svd.dims, svd.height, svd.rank, svd.exitTolerance);
+}
+
+void GdmRenderer::setMesh(const Mesh& mesh, const PrismShellOptions& shellOptions) {
+    if (!mImpl->dims) throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM before the mesh");
+    PrismShellOptions options = shellOptions;
+    options.height = mImpl->shellHeight;
+    const PrismShell shell = buildPrismShell(mesh, options);
+    // Every corner with its world position and its texture position in the isotropic frame (tiling * uv,
+    // w H).
+    std::vector<Vertex> entry, base;
     std::vector<glm::vec4> faces;
-    vertices.reserve(shell.prisms.size() * 21);
+    entry.reserve(shell.prisms.size() * 21);
+    base.reserve(shell.prisms.size() * 3);
     faces.reserve(shell.prisms.size() * 48);
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
     for (std::size_t p = 0; p < shell.prisms.size(); ++p) {
@@ -98,99 +228,45 @@ GdmSceneImages render(const GdmSource& source, const Mesh& mesh, const PrismShel
                 const glm::vec2 uv = mesh.vertices[shell.corners[p][corner.corner]].uv;
                 const glm::vec3 texture(float(options.tiling.x * double(uv.x)),
                                         float(options.tiling.y * double(uv.y)),
-                                        corner.top ? float(shellHeight) : 0.0f);
+                                        corner.top ? float(options.height) : 0.0f);
                 faces.emplace_back(world, 0.0f);
                 faces.emplace_back(texture, 0.0f);
                 lo = glm::min(lo, glm::dvec3(world));
                 hi = glm::max(hi, glm::dvec3(world));
-                if (pass == Pass::BaseIds ? f == 0 : f >= 1)
-                    vertices.push_back(
-                        {{world.x, world.y, world.z}, {texture.x, texture.y, texture.z}, std::uint32_t(p)});
+                const Vertex vertex{
+                    {world.x, world.y, world.z}, {texture.x, texture.y, texture.z}, std::uint32_t(p)};
+                (f == 0 ? base : entry).push_back(vertex);
             }
     }
-    // Near and far planes around the shell's bounds.
-    const double radius = 0.5 * glm::length(hi - lo);
-    const double distance = glm::length(0.5 * (lo + hi) - camera.eye);
-    const double farPlane = distance + 2.0 * radius + 1e-6;
-    const double nearPlane = std::max(farPlane * 1e-5, distance - 2.0 * radius);
+    mImpl->entryVertices.store(entry);
+    mImpl->baseVertices.store(base);
+    mImpl->faces.store(faces);
+    Impl::describe(mImpl->entryArray, mImpl->entryVertices);
+    Impl::describe(mImpl->baseArray, mImpl->baseVertices);
+    checkGl("GdmRenderer: uploading the shell");
+    mImpl->entryCount = GLsizei(entry.size());
+    mImpl->baseCount = GLsizei(base.size());
+    mImpl->lo = lo;
+    mImpl->hi = hi;
+    mImpl->hasMesh = true;
+}
 
+GdmSceneImages GdmRenderer::render(const Camera& camera, glm::dvec3 light, int width, int height,
+                                   GdmDirectionLookup directions) {
+    validateCamera(camera);
+    checkPicture(width, height);
+    if (!mImpl->hasMesh) throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM and the mesh first");
     const BindingGuard guard;
-    RenderTarget target;
-    target.ensure(width, height, GL_RGBA32F, "GDM scene");
-    const Program program =
-        buildProgram(ShaderLibrary::embedded(), "gdm/gdm.vert.glsl", "gdm/gdm.frag.glsl", {}, "GDM scene");
-
-    Buffer vertexBuffer, faceBuffer, weightBuffer, eigenBuffer, rawBuffer;
-    vertexBuffer.store(vertices);
-    faceBuffer.store(faces);
-    const std::vector<float> none;
-    weightBuffer.store(source.weights ? *source.weights : none);
-    eigenBuffer.store(source.eigen ? *source.eigen : none);
-    rawBuffer.store(source.raw ? *source.raw : none);
-    VertexArray vao;
-    glVertexArrayVertexBuffer(vao.id, 0, vertexBuffer.id, 0, sizeof(Vertex));
-    glEnableVertexArrayAttrib(vao.id, 0);
-    glEnableVertexArrayAttrib(vao.id, 1);
-    glEnableVertexArrayAttrib(vao.id, 2);
-    glVertexArrayAttribFormat(vao.id, 0, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
-    glVertexArrayAttribFormat(vao.id, 1, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, texture));
-    glVertexArrayAttribIFormat(vao.id, 2, 1, GL_UNSIGNED_INT, offsetof(Vertex, prism));
-    for (GLuint a = 0; a < 3; ++a) glVertexArrayAttribBinding(vao.id, a, 0);
-    checkGl("GDM scene: uploading");
-
-    const glm::dmat4 viewProjection =
-        projectionMatrix(camera, double(width) / double(height), nearPlane, farPlane) * viewMatrix(camera);
-    const glm::mat4 viewProjectionF(viewProjection);
-    const GLuint id = program.id();
-    glUseProgram(id);
-    glUniformMatrix4fv(program.uniformLocation("uViewProjection"), 1, GL_FALSE,
-                       glm::value_ptr(viewProjectionF));
-    glUniform3f(program.uniformLocation("uEye"), float(camera.eye.x), float(camera.eye.y),
-                float(camera.eye.z));
-    glUniform3f(program.uniformLocation("uLight"), float(light.x), float(light.y), float(light.z));
-    glUniform3i(program.uniformLocation("uVoxels"), source.dims.nx, source.dims.ny, source.dims.nz);
-    glUniform2i(program.uniformLocation("uDirections"), source.dims.ntheta, source.dims.nphi);
-    glUniform1f(program.uniformLocation("uHeight"), float(shellHeight));
-    glUniform1i(program.uniformLocation("uRank"), source.rank);
-    glUniform1f(program.uniformLocation("uTolerance"), float(source.tolerance));
-    glUniform1i(program.uniformLocation("uBilinearDirections"), directions == GdmDirectionLookup::Bilinear);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, faceBuffer.id);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, weightBuffer.id);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, eigenBuffer.id);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, rawBuffer.id);
-    glBindVertexArray(vao.id);
-    glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer());
-    glViewport(0, 0, width, height);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    if (pass != Pass::BaseIds) {  // the shell as the GDM pass draws it: entry faces only
-        glEnable(GL_CULL_FACE);
-        glCullFace(GL_BACK);
-        glFrontFace(GL_CCW);
-    }
-    glDisable(GL_BLEND);
-
+    mImpl->target.ensure(width, height, GL_RGBA32F, "GdmRenderer");
     GdmSceneImages images{Image(width, height, 4), Image(width, height, 1), Image(width, height, 1)};
-    std::vector<float> pixels(std::size_t(width) * std::size_t(height) * 4);
-    const int firstOutput = pass == Pass::Gdm ? 0 : 2, lastOutput = pass == Pass::Gdm ? 1 : 2;
-    for (int output = firstOutput; output <= lastOutput; ++output) {
-        glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
-        glClearDepth(1.0);
-        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        glUniform1i(program.uniformLocation("uOutput"), output);
-        glDrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size()));
-        glReadBuffer(GL_COLOR_ATTACHMENT0);
-        glPixelStorei(GL_PACK_ALIGNMENT, 4);
-        glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, pixels.data());
-        checkGl("GDM scene: drawing");
+    for (int output = 0; output < 2; ++output) {
+        const std::vector<float> pixels = mImpl->draw(mImpl->entryArray, mImpl->entryCount, output, true,
+                                                      camera, light, width, height, directions);
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
-                // GL's row 0 is the bottom one; the picture's is the top (CONVENTIONS §7).
-                const float* p = pixels.data() + (std::size_t(height - 1 - y) * std::size_t(width) + x) * 4;
+                const float* p = pixels.data() + (std::size_t(y) * std::size_t(width) + std::size_t(x)) * 4;
                 const bool hit = p[3] > 0.5f;
-                if (output == 2) {
-                    images.mask.at(x, y) = hit ? p[0] : 0.0f;  // the prism id + 1
-                } else if (output == 0) {
+                if (output == 0) {
                     for (int c = 0; c < 4; ++c) images.uvw.at(x, y, c) = hit ? p[c] : 0.0f;
                     images.mask.at(x, y) = hit ? 1.0f : 0.0f;
                 } else {
@@ -198,81 +274,64 @@ GdmSceneImages render(const GdmSource& source, const Mesh& mesh, const PrismShel
                 }
             }
     }
-    glDisable(GL_CULL_FACE);
-    glBindVertexArray(0);
-    glUseProgram(0);
     return images;
 }
 
-}  // namespace
+Image GdmRenderer::renderPrismIds(const Camera& camera, int width, int height, PrismFaces faces) {
+    validateCamera(camera);
+    checkPicture(width, height);
+    if (!mImpl->hasMesh) throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM and the mesh first");
+    const BindingGuard guard;
+    mImpl->target.ensure(width, height, GL_RGBA32F, "GdmRenderer");
+    const bool base = faces == PrismFaces::Base;
+    const std::vector<float> pixels =
+        mImpl->draw(base ? mImpl->baseArray : mImpl->entryArray, base ? mImpl->baseCount : mImpl->entryCount,
+                    2, !base, camera, glm::dvec3(0.0), width, height, GdmDirectionLookup::Nearest);
+    Image ids(width, height, 1);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const float* p = pixels.data() + (std::size_t(y) * std::size_t(width) + std::size_t(x)) * 4;
+            ids.at(x, y) = p[3] > 0.5f ? p[0] : 0.0f;
+        }
+    return ids;
+}
 
 namespace {
 
-GdmSource rawSource(const Gdm& gdm) {
-    validateGdmDims(gdm.dims, gdm.height, "GDM scene");
-    if (gdm.values.size() != gdm.dims.valueCount())
-        throw Error(ErrorKind::InvalidInput, "GDM scene: the GDM holds " + std::to_string(gdm.values.size()) +
-                                                 " values, its dims need " +
-                                                 std::to_string(gdm.dims.valueCount()));
-    GdmSource source;
-    source.dims = gdm.dims;
-    source.height = gdm.height;
-    source.raw = &gdm.values;
-    source.tolerance = 1e-4 * gdm.height / gdm.dims.nz;  // emulateGdm's for the raw GDM
-    return source;
-}
-
-GdmSource svdSource(const GdmSvd& svd) {
-    validateGdmDims(svd.dims, svd.height, "GDM scene");
-    if (svd.layout != GdmLayout::XyPhiByThetaZ)
-        throw Error(ErrorKind::InvalidInput,
-                    std::string("GDM scene: the GL renderer reads the paper's layout ") +
-                        toString(GdmLayout::XyPhiByThetaZ) + ", not " + toString(svd.layout));
-    if (svd.weights.size() != svd.rows * std::size_t(svd.rank) ||
-        svd.eigen.size() != std::size_t(svd.rank) * svd.cols)
-        throw Error(ErrorKind::InvalidInput, "GDM scene: the SVD's maps do not match its rank and layout");
-    GdmSource source;
-    source.dims = svd.dims;
-    source.height = svd.height;
-    source.rank = svd.rank;
-    source.weights = &svd.weights;
-    source.eigen = &svd.eigen;
-    source.tolerance = svd.exitTolerance;
-    return source;
+template <class Source>
+GdmSceneImages renderOnce(const Source& source, const Mesh& mesh, const PrismShellOptions& shell,
+                          const Camera& camera, glm::dvec3 light, int width, int height,
+                          GdmDirectionLookup directions) {
+    validateCamera(camera);
+    checkPicture(width, height);
+    GdmRenderer renderer;
+    renderer.setGdm(source);
+    renderer.setMesh(mesh, shell);
+    return renderer.render(camera, light, width, height, directions);
 }
 
 }  // namespace
 
 GdmSceneImages renderGdmScene(const Gdm& gdm, const Camera& camera, glm::dvec3 light, int width, int height,
                               GdmDirectionLookup directions) {
-    return render(rawSource(gdm), makeBuiltinMesh("quad"), {}, camera, light, width, height, directions);
+    return renderOnce(gdm, makeBuiltinMesh("quad"), {}, camera, light, width, height, directions);
 }
 
 GdmSceneImages renderGdmScene(const GdmSvd& svd, const Camera& camera, glm::dvec3 light, int width,
                               int height, GdmDirectionLookup directions) {
-    return render(svdSource(svd), makeBuiltinMesh("quad"), {}, camera, light, width, height, directions);
+    return renderOnce(svd, makeBuiltinMesh("quad"), {}, camera, light, width, height, directions);
 }
 
 GdmSceneImages renderGdmMesh(const Gdm& gdm, const Mesh& mesh, const PrismShellOptions& shell,
                              const Camera& camera, glm::dvec3 light, int width, int height,
                              GdmDirectionLookup directions) {
-    return render(rawSource(gdm), mesh, shell, camera, light, width, height, directions);
+    return renderOnce(gdm, mesh, shell, camera, light, width, height, directions);
 }
 
 GdmSceneImages renderGdmMesh(const GdmSvd& svd, const Mesh& mesh, const PrismShellOptions& shell,
                              const Camera& camera, glm::dvec3 light, int width, int height,
                              GdmDirectionLookup directions) {
-    return render(svdSource(svd), mesh, shell, camera, light, width, height, directions);
-}
-
-Image renderPrismIds(const Mesh& mesh, const PrismShellOptions& shell, const Camera& camera, int width,
-                     int height, PrismFaces faces) {
-    GdmSource source;  // no GDM is read
-    source.height = shell.height;
-    source.dims = GdmDims{1, 1, 1, 1, 1};
-    return render(source, mesh, shell, camera, glm::dvec3(0.0), width, height, GdmDirectionLookup::Nearest,
-                  faces == PrismFaces::Base ? Pass::BaseIds : Pass::ShellIds)
-        .mask;
+    return renderOnce(svd, mesh, shell, camera, light, width, height, directions);
 }
 
 }  // namespace strata::gl

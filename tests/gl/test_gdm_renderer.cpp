@@ -4,6 +4,7 @@
 #include "gl_test_support.h"
 
 #include "strata/core/error.h"
+#include "strata/gdm/gdm_analytic.h"
 #include "strata/gdm/gdm_bake.h"
 #include "strata/gdm/gdm_svd.h"
 #include "strata/gdm/gdm_trace.h"
@@ -96,8 +97,11 @@ TEST_F(GdmRendererGl, SvdMatchesTheCpuEmulationAndTheReference) {
 // Pixels the base covers and the shell does not: where a ray reaches the mesh without crossing the shell.
 int cracks(const Mesh& mesh, const PrismShellOptions& options, int size) {
     const Camera camera = frameCamera(meshBounds(mesh), 1.0, 40.0);
-    const Image base = gl::renderPrismIds(mesh, options, camera, size, size, gl::PrismFaces::Base);
-    const Image shell = gl::renderPrismIds(mesh, options, camera, size, size, gl::PrismFaces::Shell);
+    gl::GdmRenderer renderer;
+    renderer.setGdm(makeEmptyGdm(GdmDims{4, 4, 2, 2, 4}, options.height));
+    renderer.setMesh(mesh, options);
+    const Image base = renderer.renderPrismIds(camera, size, size, gl::PrismFaces::Base);
+    const Image shell = renderer.renderPrismIds(camera, size, size, gl::PrismFaces::Shell);
     int count = 0, covered = 0;
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {

@@ -22,6 +22,8 @@
 
 #include <glm/vec3.hpp>
 
+#include <memory>
+
 namespace strata::gl {
 
 GdmSceneImages renderGdmScene(const Gdm& gdm, const Camera& camera, glm::dvec3 light, int width, int height,
@@ -41,12 +43,39 @@ GdmSceneImages renderGdmMesh(const GdmSvd& svd, const Mesh& mesh, const PrismShe
                              const Camera& camera, glm::dvec3 light, int width, int height,
                              GdmDirectionLookup directions = GdmDirectionLookup::Nearest);
 
-// The crack test's pictures: each pixel the id + 1 of the nearest prism face that covers it (0: none), for
-// the prisms' base faces (the mesh itself, no culling) or for the shell's faces as the GDM pass draws them
-// (tops and fins, back faces culled: the faces a ray enters a prism through). A ray that reaches the base
-// must enter the shell first, so a pixel covered by the base but by no entry face is a crack.
+// Which faces GdmRenderer::renderPrismIds draws.
 enum class PrismFaces { Base, Shell };
-Image renderPrismIds(const Mesh& mesh, const PrismShellOptions& shell, const Camera& camera, int width,
-                     int height, PrismFaces faces);
+
+// The renderer behind the functions above, for drawing many pictures: the program is built once, the GDM
+// and the mesh's shell are uploaded once (storage buffers), and each render() draws and reads back. Needs
+// the context that made it to be current in every call, and when it is destroyed.
+class GdmRenderer {
+public:
+    GdmRenderer();  // builds the program; throws Error(Runtime) if it does not compile or link
+    ~GdmRenderer();
+    GdmRenderer(const GdmRenderer&) = delete;
+    GdmRenderer& operator=(const GdmRenderer&) = delete;
+
+    // The GDM to draw: raw, or an SVD in the paper's layout. Throws Error(InvalidInput) as renderGdmScene.
+    // Forgets the mesh (the shell's thickness and texture positions depend on H): set it again.
+    void setGdm(const Gdm& gdm);
+    void setGdm(const GdmSvd& svd);
+    // The mesh whose prism shell is drawn (buildPrismShell with `shell`, its height the GDM's H). Throws
+    // Error(InvalidInput) before setGdm, and as buildPrismShell.
+    void setMesh(const Mesh& mesh, const PrismShellOptions& shell);
+
+    GdmSceneImages render(const Camera& camera, glm::dvec3 light, int width, int height,
+                          GdmDirectionLookup directions = GdmDirectionLookup::Nearest);
+
+    // The crack test's pictures: each pixel the id + 1 of the nearest prism face that covers it (0: none),
+    // for the prisms' base faces (the mesh itself, no culling) or for the shell's faces as render() draws
+    // them (tops and fins, back faces culled: the faces a ray enters a prism through). A ray that reaches
+    // the base must enter the shell first, so a pixel covered by the base but by no entry face is a crack.
+    Image renderPrismIds(const Camera& camera, int width, int height, PrismFaces faces);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> mImpl;
+};
 
 }  // namespace strata::gl
