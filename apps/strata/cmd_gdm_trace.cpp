@@ -16,9 +16,12 @@
 #include "strata/gl/context.h"
 #include "strata/gl/gdm_renderer.h"
 #include "strata/image/image_io.h"
+#include "strata/image/srgb.h"
+#include "strata/mesh/builtin_meshes.h"
 #include "strata/mesh/mesh.h"
 #include "strata/scene/scene.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -61,13 +64,15 @@ struct GdmTraceOptions {
     fs::path file;
 };
 
-enum class TraceOutput { Uvw, Shadow, Mask };
+enum class TraceOutput { Uvw, Shadow, Mask, Shaded };
 
 TraceOutput parseTraceOutput(const std::string& name) {
     if (name == "uvw") return TraceOutput::Uvw;
     if (name == "shadow") return TraceOutput::Shadow;
     if (name == "mask") return TraceOutput::Mask;
-    throw Error(ErrorKind::Usage, "gdm trace: --output must be uvw, shadow or mask, got \"" + name + "\"");
+    if (name == "shaded") return TraceOutput::Shaded;
+    throw Error(ErrorKind::Usage,
+                "gdm trace: --output must be uvw, shadow, mask or shaded, got \"" + name + "\"");
 }
 
 // Every file of the asset that exists: the trace must never overwrite one.
@@ -87,6 +92,8 @@ void runGdmTrace(const GdmTraceOptions& options) {
     if (options.output.empty())
         throw Error(ErrorKind::Usage, "gdm trace: give --output uvw, shadow or mask (CONVENTIONS §8)");
     const TraceOutput output = parseTraceOutput(options.output);
+    if (output == TraceOutput::Shaded && !options.gl)
+        throw Error(ErrorKind::Usage, "gdm trace: --output shaded is drawn in OpenGL: give --gl with it");
     if (options.file.empty()) throw Error(ErrorKind::Usage, "gdm trace: give the output PNG with -o F.png");
     if (options.reference && options.gl)
         throw Error(ErrorKind::Usage,
@@ -166,6 +173,22 @@ void runGdmTrace(const GdmTraceOptions& options) {
         if (options.eye == kDefaultEye && options.target == kDefaultTarget)
             view = frameCamera(meshBounds(*mesh), double(width) / double(height), options.fov);
     }
+    // OpenGL: the prism shell of the quad, or of --mesh; shaded with the asset's volumes.
+    Image shaded;
+    const auto drawGl = [&](const auto& gdm) {
+        gl::GdmRenderer renderer;
+        renderer.setGdm(gdm);
+        renderer.setMesh(mesh ? *mesh : makeBuiltinMesh("quad"), shell);
+        if (output == TraceOutput::Shaded) {
+            renderer.setVolumes(asset.occupancy, asset.albedo);
+            shaded = renderer.renderShaded(view, light, width, height, lookup);
+            images.mask = Image(width, height, 1);
+            for (int y = 0; y < height; ++y)
+                for (int x = 0; x < width; ++x) images.mask.at(x, y) = shaded.at(x, y, 3);
+        } else {
+            images = renderer.render(view, light, width, height, lookup);
+        }
+    };
     if (options.reference) {
         if (!asset.solid)
             throw Error(
@@ -184,30 +207,40 @@ void runGdmTrace(const GdmTraceOptions& options) {
                             "or trace the SVD (--gdm svd)");
         what = "the paper's algorithm on the raw GDM, " + lookupName + " directions" + engine;
         progress("running the paper's algorithm on the raw GDM at " + pixels + engine);
-        images = mesh ? gl::renderGdmMesh(*asset.raw, *mesh, shell, view, light, width, height, lookup)
-                 : options.gl ? gl::renderGdmScene(*asset.raw, camera, light, width, height, lookup)
-                              : emulateGdm(*asset.raw, camera, light, width, height, lookup);
+        if (options.gl)
+            drawGl(*asset.raw);
+        else
+            images = emulateGdm(*asset.raw, camera, light, width, height, lookup);
     } else {
         what = "the paper's algorithm on the rank-" + std::to_string(asset.svd.rank) + " SVD, " + lookupName +
                " directions" + engine;
         progress("running the paper's algorithm on the rank-" + std::to_string(asset.svd.rank) + " SVD at " +
                  pixels + engine);
-        images = mesh         ? gl::renderGdmMesh(asset.svd, *mesh, shell, view, light, width, height, lookup)
-                 : options.gl ? gl::renderGdmScene(asset.svd, camera, light, width, height, lookup)
-                              : emulateGdm(asset.svd, camera, light, width, height, lookup);
+        if (options.gl)
+            drawGl(asset.svd);
+        else
+            images = emulateGdm(asset.svd, camera, light, width, height, lookup);
     }
 
     // CONVENTIONS §8: 16-bit, round(value * 65535), no dither. uvw's fourth channel is 1 on a hit and its
-    // others 0 on a miss, as §8's A = 65535 / all zero.
+    // others 0 on a miss, as §8's A = 65535 / all zero. Shaded (not a §8 output): 8-bit sRGB with alpha,
+    // dithered, as `strata render` writes its pictures.
+    if (output == TraceOutput::Shaded)
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x)
+                for (int c = 0; c < 3; ++c)
+                    shaded.at(x, y, c) =
+                        float(linearToSrgb(std::clamp(double(shaded.at(x, y, c)), 0.0, 1.0)));
     const Image& picture = output == TraceOutput::Uvw      ? images.uvw
                            : output == TraceOutput::Shadow ? images.shadow
+                           : output == TraceOutput::Shaded ? shaded
                                                            : images.mask;
     std::size_t hits = 0;
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) hits += images.mask.at(x, y) > 0.5f ? 1 : 0;
     PngWriteOptions png;
-    png.bitDepth = PngBitDepth::Sixteen;
-    png.dither = false;
+    png.bitDepth = output == TraceOutput::Shaded ? PngBitDepth::Eight : PngBitDepth::Sixteen;
+    png.dither = output == TraceOutput::Shaded;
     if (!options.file.parent_path().empty()) fs::create_directories(options.file.parent_path());
     writePng(options.file, picture, png);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -232,8 +265,10 @@ void addGdmTraceCommand(CLI::App& gdm) {
     command->add_option("--fov", options->fov, "Vertical field of view in degrees")->capture_default_str();
     command->add_option("--size", options->size, "Picture size WxH in pixels")->capture_default_str();
     command->add_option("--light", options->light, "Point light position X,Y,Z")->capture_default_str();
-    command->add_option("--output", options->output,
-                        "What a pixel holds: uvw (RGBA), shadow or mask (gray), 16-bit (CONVENTIONS §8)");
+    command->add_option(
+        "--output", options->output,
+        "What a pixel holds: uvw (RGBA), shadow or mask (gray), 16-bit (CONVENTIONS §8); shaded (--gl: 8-bit "
+        "sRGB with alpha)");
     command->add_flag("--reference", options->reference,
                       "Trace the exact reference on the asset's solid mesh (solid.obj) instead of the GDM");
     command->add_option(

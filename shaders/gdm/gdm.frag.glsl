@@ -21,12 +21,15 @@
 // Outputs (uOutput): 0 uvw: (u, v modulo 1, w, 1); 1 shadow: (lit, 0, 0, 1), lit iff the lookup towards the
 // light from one voxel back along V, leaving out the corners below half a voxel, is an exit (emulateGdm's
 // rule, with the object-space light direction as L_t, the paper's choice); 2 prism id + 1, no GDM (the crack
-// test of gdm_renderer.h).
+// test of gdm_renderer.h); 3 shaded: (linear RGB, 1), shade() below, with that shadow.
 
 in VertexData {
     vec3 worldPosition;
     vec3 texturePosition;
     flat uint prism;
+    vec3 tangent;
+    vec3 bitangent;
+    vec3 normal;
 } vIn;
 
 layout(location = 0) out vec4 fragColor;
@@ -37,11 +40,15 @@ layout(std430, binding = 0) readonly buffer PrismFaces { vec4 faces[]; };
 layout(std430, binding = 1) readonly buffer GdmWeights { float weights[]; };
 layout(std430, binding = 2) readonly buffer GdmEigen { float eigenMaps[]; };
 layout(std430, binding = 3) readonly buffer GdmRaw { float rawValues[]; };
+// The volumes, for shading: occupancy (1 inside) and linear albedo (RGB) per voxel, x fastest (§8).
+layout(std430, binding = 4) readonly buffer GdmOccupancy { float occupancy[]; };
+layout(std430, binding = 5) readonly buffer GdmAlbedo { float albedo[]; };
 
 uniform mat4 uViewProjection;
 uniform vec3 uEye;
 uniform vec3 uLight;
-uniform int uOutput;       // 0 uvw, 1 shadow, 2 the prism's id + 1 (the crack test)
+uniform int uOutput;       // 0 uvw, 1 shadow, 2 the prism's id + 1 (the crack test), 3 shaded
+uniform bool uHasAlbedo;
 uniform ivec3 uVoxels;     // Nx, Ny, Nz
 uniform ivec2 uDirections; // Ntheta, Nphi
 uniform float uHeight;     // H
@@ -130,6 +137,59 @@ vec2 lookupGdm(vec3 point, vec3 direction, float dropBelow) {
     return vec2(max(d, 0.0), 0.0);
 }
 
+int voxelIndex(int i, int j, int k) {
+    i = (i % uVoxels.x + uVoxels.x) % uVoxels.x;
+    j = (j % uVoxels.y + uVoxels.y) % uVoxels.y;
+    k = clamp(k, 0, uVoxels.z - 1);
+    return (k * uVoxels.y + j) * uVoxels.x + i;
+}
+
+// The occupancy volume, trilinear between voxel centres (wrapping in u, v, clamped in w).
+float occupancyAt(vec3 point) {
+    float fx = point.x * float(uVoxels.x) - 0.5;
+    float fy = point.y * float(uVoxels.y) - 0.5;
+    float fz = clamp(point.z / uHeight * float(uVoxels.z) - 0.5, 0.0, float(uVoxels.z - 1));
+    vec3 base = floor(vec3(fx, fy, fz));
+    vec3 a = vec3(fx, fy, fz) - base;
+    float sum = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        int dx = corner & 1, dy = (corner >> 1) & 1, dz = corner >> 2;
+        float weight = (dx == 1 ? a.x : 1.0 - a.x) * (dy == 1 ? a.y : 1.0 - a.y) * (dz == 1 ? a.z : 1.0 - a.z);
+        sum += weight * occupancy[voxelIndex(int(base.x) + dx, int(base.y) + dy, int(base.z) + dz)];
+    }
+    return sum;
+}
+
+// Shading of a hit at texture point T (world P), the ray's texture direction V: the normal is the
+// occupancy's gradient (central differences one voxel apart, in the isotropic frame), taken to world by
+// the mesh's interpolated tangent frame; the albedo is the nearest voxel's; Blinn-Phong with the local
+// shadow.
+vec3 shade(vec3 texturePoint, vec3 worldPoint, vec3 direction, bool lit) {
+    vec3 h = vec3(1.0 / float(uVoxels.x), 1.0 / float(uVoxels.y), uHeight / float(uVoxels.z));
+    vec3 gradient = vec3(occupancyAt(texturePoint + vec3(h.x, 0.0, 0.0)) - occupancyAt(texturePoint - vec3(h.x, 0.0, 0.0)),
+                         occupancyAt(texturePoint + vec3(0.0, h.y, 0.0)) - occupancyAt(texturePoint - vec3(0.0, h.y, 0.0)),
+                         occupancyAt(texturePoint + vec3(0.0, 0.0, h.z)) - occupancyAt(texturePoint - vec3(0.0, 0.0, h.z)));
+    // Occupancy is 1 inside: the outward normal points down its gradient; where the gradient vanishes
+    // (a hit on the shell's cut face), the face faces the ray.
+    vec3 n = length(gradient) > 1e-6 ? -normalize(gradient) : -direction;
+    vec3 world = normalize(n.x * vIn.tangent + n.y * vIn.bitangent + n.z * vIn.normal);
+    vec3 toEye = normalize(uEye - worldPoint);
+    if (dot(world, toEye) < 0.0) world = -world;  // a gradient estimated across a thin part
+    vec3 toLight = normalize(uLight - worldPoint);
+    vec3 colour = vec3(0.7);
+    if (uHasAlbedo) {
+        int i = int(floor(texturePoint.x * float(uVoxels.x)));
+        int j = int(floor(texturePoint.y * float(uVoxels.y)));
+        int k = int(floor(texturePoint.z / uHeight * float(uVoxels.z)));
+        int v = voxelIndex(i, j, k);
+        colour = vec3(albedo[3 * v], albedo[3 * v + 1], albedo[3 * v + 2]);
+    }
+    float diffuse = max(dot(world, toLight), 0.0);
+    float specular = pow(max(dot(world, normalize(toLight + toEye)), 0.0), 32.0);
+    float light = lit ? 1.0 : 0.0;
+    return colour * (0.2 + 0.8 * diffuse * light) + vec3(0.15 * specular * light);
+}
+
 void main() {
     if (uOutput == 2) {
         fragColor = vec4(float(vIn.prism + 1u), 0.0, 0.0, 1.0);
@@ -179,6 +239,9 @@ void main() {
         vec3 back = texturePoint - kShadowBackoffVoxels * voxel * direction;
         vec3 toLight = normalize(uLight - worldPoint);
         vec2 shadow = lookupGdm(back, toLight, kShadowDropVoxels * voxel);
-        fragColor = vec4(shadow.y, 0.0, 0.0, 1.0);
+        if (uOutput == 1)
+            fragColor = vec4(shadow.y, 0.0, 0.0, 1.0);
+        else
+            fragColor = vec4(shade(texturePoint, worldPoint, direction, shadow.y > 0.5), 1.0);
     }
 }

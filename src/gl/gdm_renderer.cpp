@@ -6,6 +6,7 @@
 #include "strata/gdm/prism_shell.h"
 #include "strata/gl/gl_error.h"
 #include "strata/gl/program.h"
+#include "strata/image/srgb.h"
 #include "strata/mesh/builtin_meshes.h"
 
 #include <epoxy/gl.h>
@@ -56,6 +57,9 @@ struct Vertex {
     float position[3];
     float texture[3];
     std::uint32_t prism;
+    float tangent[3];  // the mesh's frame at the corner, for shading
+    float bitangent[3];
+    float normal[3];
 };
 
 void checkPicture(int width, int height) {
@@ -76,6 +80,8 @@ struct GdmRenderer::Impl {
     int rank = 0;
     double tolerance = 0.0;
     Buffer weights, eigen, raw;
+    Buffer occupancy, albedo;  // for shading: float per voxel, linear RGB per voxel
+    bool hasOccupancy = false, hasAlbedo = false;
     // The mesh's shell: entry faces (tops and fins) and base faces to draw, every prism's 8 triangles for
     // the exit search, and the shell's bounds.
     bool hasMesh = false;
@@ -87,6 +93,10 @@ struct GdmRenderer::Impl {
     void setGdm(const GdmDims& d, double h, int k, double tol) {
         dims = d;
         shellHeight = h;
+        const std::vector<float> none;
+        occupancy.store(none);
+        albedo.store(none);
+        hasOccupancy = hasAlbedo = false;
         rank = k;
         tolerance = tol;
         hasMesh = false;  // the shell's thickness and texture positions depend on H
@@ -94,13 +104,16 @@ struct GdmRenderer::Impl {
 
     static void describe(const VertexArray& array, const Buffer& buffer) {
         glVertexArrayVertexBuffer(array.id, 0, buffer.id, 0, sizeof(Vertex));
-        for (GLuint a = 0; a < 3; ++a) {
+        for (GLuint a = 0; a < 6; ++a) {
             glEnableVertexArrayAttrib(array.id, a);
             glVertexArrayAttribBinding(array.id, a, 0);
         }
         glVertexArrayAttribFormat(array.id, 0, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, position));
         glVertexArrayAttribFormat(array.id, 1, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, texture));
         glVertexArrayAttribIFormat(array.id, 2, 1, GL_UNSIGNED_INT, offsetof(Vertex, prism));
+        glVertexArrayAttribFormat(array.id, 3, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, tangent));
+        glVertexArrayAttribFormat(array.id, 4, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, bitangent));
+        glVertexArrayAttribFormat(array.id, 5, 3, GL_FLOAT, GL_FALSE, offsetof(Vertex, normal));
     }
 
     // Draws `array` (`count` vertices) into the target with output `output` (gdm.frag.glsl's uOutput), and
@@ -129,10 +142,13 @@ struct GdmRenderer::Impl {
         glUniform1i(program.uniformLocation("uBilinearDirections"),
                     directions == GdmDirectionLookup::Bilinear);
         glUniform1i(program.uniformLocation("uOutput"), output);
+        glUniform1i(program.uniformLocation("uHasAlbedo"), hasAlbedo ? 1 : 0);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, faces.id);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, weights.id);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, eigen.id);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, raw.id);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, occupancy.id);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, albedo.id);
         glBindVertexArray(array.id);
         glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer());
         glViewport(0, 0, width, height);
@@ -233,8 +249,14 @@ void GdmRenderer::setMesh(const Mesh& mesh, const PrismShellOptions& shellOption
                 faces.emplace_back(texture, 0.0f);
                 lo = glm::min(lo, glm::dvec3(world));
                 hi = glm::max(hi, glm::dvec3(world));
-                const Vertex vertex{
-                    {world.x, world.y, world.z}, {texture.x, texture.y, texture.z}, std::uint32_t(p)};
+                const MeshVertex& m = mesh.vertices[shell.corners[p][corner.corner]];
+                const glm::vec3 t = glm::vec3(m.tangent), b = m.tangent.w * glm::cross(m.normal, t);
+                const Vertex vertex{{world.x, world.y, world.z},
+                                    {texture.x, texture.y, texture.z},
+                                    std::uint32_t(p),
+                                    {t.x, t.y, t.z},
+                                    {b.x, b.y, b.z},
+                                    {m.normal.x, m.normal.y, m.normal.z}};
                 (f == 0 ? base : entry).push_back(vertex);
             }
     }
@@ -275,6 +297,40 @@ GdmSceneImages GdmRenderer::render(const Camera& camera, glm::dvec3 light, int w
             }
     }
     return images;
+}
+
+void GdmRenderer::setVolumes(const std::vector<std::uint8_t>& occupancy,
+                             const std::vector<std::uint8_t>& albedo) {
+    if (!mImpl->dims) throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM before its volumes");
+    const std::size_t voxels = std::size_t(mImpl->dims->nx) * mImpl->dims->ny * mImpl->dims->nz;
+    if (occupancy.size() != voxels || (!albedo.empty() && albedo.size() != 3 * voxels))
+        throw Error(ErrorKind::InvalidInput,
+                    "GdmRenderer: the volumes do not match the GDM's " + std::to_string(voxels) + " voxels");
+    std::vector<float> occupied(occupancy.begin(), occupancy.end());
+    std::vector<float> linear(albedo.size());
+    for (std::size_t n = 0; n < albedo.size(); ++n)
+        linear[n] = float(srgbToLinear(double(albedo[n]) / 255.0));
+    mImpl->occupancy.store(occupied);
+    mImpl->albedo.store(linear);
+    checkGl("GdmRenderer: uploading the volumes");
+    mImpl->hasOccupancy = true;
+    mImpl->hasAlbedo = !albedo.empty();
+}
+
+Image GdmRenderer::renderShaded(const Camera& camera, glm::dvec3 light, int width, int height,
+                                GdmDirectionLookup directions) {
+    validateCamera(camera);
+    checkPicture(width, height);
+    if (!mImpl->hasMesh) throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM and the mesh first");
+    if (!mImpl->hasOccupancy)
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: shading needs the occupancy volume (setVolumes)");
+    const BindingGuard guard;
+    mImpl->target.ensure(width, height, GL_RGBA32F, "GdmRenderer");
+    const std::vector<float> pixels =
+        mImpl->draw(mImpl->entryArray, mImpl->entryCount, 3, true, camera, light, width, height, directions);
+    Image image(width, height, 4);
+    std::copy(pixels.begin(), pixels.end(), image.row(0));
+    return image;
 }
 
 Image GdmRenderer::renderPrismIds(const Camera& camera, int width, int height, PrismFaces faces) {

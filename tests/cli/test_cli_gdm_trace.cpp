@@ -239,6 +239,18 @@ TEST_F(CliGdmTrace, OpenGlDrawsTheShellOfAnyMesh) {
     // The torus fills about a third of the framed picture; the weave's gaps let some rays through.
     EXPECT_GT(hits, 96 * 72 / 10);
     EXPECT_LT(hits, 96 * 72 * 9 / 10);
+    // Shaded: an 8-bit sRGB picture with alpha where the weave is hit.
+    const auto shaded = runCli("gdm trace " + quoted(weave) + " --gl --mesh torus --tiling 4 --size 96x72 " +
+                               "--output shaded -o " + quoted(*dir / "torus_shaded.png"));
+    ASSERT_EQ(shaded.exitCode, 0) << shaded.output;
+    const Image picture = readImage(*dir / "torus_shaded.png");
+    ASSERT_EQ(picture.channels(), 4);
+    int opaque = 0;
+    for (int y = 0; y < 72; ++y)
+        for (int x = 0; x < 96; ++x) opaque += picture.at(x, y, 3) > 0.5f;
+    EXPECT_EQ(opaque, hits);  // the same rays hit
+    EXPECT_EQ(
+        runCli("gdm trace " + quoted(weave) + " --output shaded -o " + quoted(*dir / "no.png")).exitCode, 1);
     // --mesh is the GL renderer's, and --tiling / --thickness are --mesh's.
     const std::string out = " --output mask -o " + quoted(*dir / "no.png");
     EXPECT_EQ(runCli("gdm trace " + quoted(weave) + " --mesh torus" + out).exitCode, 1);

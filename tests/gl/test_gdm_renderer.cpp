@@ -5,6 +5,7 @@
 
 #include "strata/core/error.h"
 #include "strata/gdm/gdm_analytic.h"
+#include "strata/gdm/gdm_asset.h"
 #include "strata/gdm/gdm_bake.h"
 #include "strata/gdm/gdm_svd.h"
 #include "strata/gdm/gdm_trace.h"
@@ -92,6 +93,49 @@ TEST_F(GdmRendererGl, SvdMatchesTheCpuEmulationAndTheReference) {
     const GdmSceneAccuracy gpuError = compareGdmScenes(reference, gpu, gdm.height, voxel);
     EXPECT_NEAR(gpuError.hitMissDisagreePercent, cpuError.hitMissDisagreePercent, 0.5);
     EXPECT_NEAR(gpuError.uvwMeanVoxels, cpuError.uvwMeanVoxels, 0.05);
+}
+
+TEST_F(GdmRendererGl, ShadedShowsTheAlbedoWhereItHitsAndDarkensShadows) {
+    const Gdm& gdm = weave().gdm;
+    gl::GdmRenderer renderer;
+    renderer.setGdm(gdm);
+    renderer.setMesh(makeBuiltinMesh("quad"), {});
+    const Mesostructure meso = makeMesostructure("weave");
+    renderer.setVolumes(gdmOccupancy(gdm), mesostructureAlbedo(meso, gdm.dims));
+    const Camera camera = viewAt(45.0);
+    const GdmSceneImages plain = renderer.render(camera, kLight, kSize, kSize);
+    const Image shaded = renderer.renderShaded(camera, kLight, kSize, kSize);
+    double litSum = 0.0, shadowSum = 0.0;
+    int lit = 0, shadowed = 0, blue = 0, cream = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            // The same pixels hit: the shaded pass is the uvw pass with another output.
+            ASSERT_EQ(shaded.at(x, y, 3), plain.mask.at(x, y)) << x << " " << y;
+            if (plain.mask.at(x, y) == 0.0f) continue;
+            const float r = shaded.at(x, y, 0), g = shaded.at(x, y, 1), b = shaded.at(x, y, 2);
+            // The weave's two yarns: indigo warps (blue above red), cream wefts (red above blue).
+            blue += b > r;
+            cream += r > b;
+            const double luminance = 0.2126 * double(r) + 0.7152 * double(g) + 0.0722 * double(b);
+            if (plain.shadow.at(x, y) > 0.5f) {
+                litSum += luminance;
+                ++lit;
+            } else {
+                shadowSum += luminance;
+                ++shadowed;
+            }
+        }
+    EXPECT_GT(blue, kSize * kSize / 20);
+    EXPECT_GT(cream, kSize * kSize / 20);
+    ASSERT_GT(lit, 0);
+    ASSERT_GT(shadowed, 0);
+    // Shadowed pixels keep only the ambient fifth of their light.
+    EXPECT_GT(litSum / lit, 1.5 * shadowSum / shadowed);
+    // Without the volumes there is nothing to shade with.
+    gl::GdmRenderer bare;
+    bare.setGdm(gdm);
+    bare.setMesh(makeBuiltinMesh("quad"), {});
+    EXPECT_THROW(bare.renderShaded(camera, kLight, 8, 8), Error);
 }
 
 // Pixels the base covers and the shell does not: where a ray reaches the mesh without crossing the shell.

@@ -22,7 +22,9 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace strata::gl {
 
@@ -66,6 +68,16 @@ public:
 
     GdmSceneImages render(const Camera& camera, glm::dvec3 light, int width, int height,
                           GdmDirectionLookup directions = GdmDirectionLookup::Nearest);
+
+    // The volumes for shading (GdmAsset's occupancy and, optional, sRGB albedo; x fastest, §8), for the
+    // GDM set last. Throws Error(InvalidInput) before setGdm or for sizes that are not the GDM's voxels.
+    void setVolumes(const std::vector<std::uint8_t>& occupancy, const std::vector<std::uint8_t>& albedo);
+    // A shaded picture: linear RGB and alpha 1 on a hit, all 0 elsewhere. The normal is the occupancy's
+    // gradient at the hit (central differences one voxel apart), taken to world space by the mesh's
+    // interpolated tangent frame; the albedo is the nearest voxel's (0.7 grey without one); Blinn-Phong from
+    // the point light, with the local shadow of render(). Throws Error(InvalidInput) without the volumes.
+    Image renderShaded(const Camera& camera, glm::dvec3 light, int width, int height,
+                       GdmDirectionLookup directions = GdmDirectionLookup::Nearest);
 
     // The crack test's pictures: each pixel the id + 1 of the nearest prism face that covers it (0: none),
     // for the prisms' base faces (the mesh itself, no culling) or for the shell's faces as render() draws
