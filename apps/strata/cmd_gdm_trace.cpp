@@ -90,7 +90,8 @@ void runGdmTrace(const GdmTraceOptions& options) {
     // that is one of the asset's files is refused as such (exit 2), before the extension check (exit 1).
     if (options.asset.empty()) throw Error(ErrorKind::Usage, "gdm trace: give the GDM asset directory DIR");
     if (options.output.empty())
-        throw Error(ErrorKind::Usage, "gdm trace: give --output uvw, shadow or mask (CONVENTIONS §8)");
+        throw Error(ErrorKind::Usage,
+                    "gdm trace: give --output uvw, shadow or mask (CONVENTIONS §8), or shaded");
     const TraceOutput output = parseTraceOutput(options.output);
     if (output == TraceOutput::Shaded && !options.gl)
         throw Error(ErrorKind::Usage, "gdm trace: --output shaded is drawn in OpenGL: give --gl with it");

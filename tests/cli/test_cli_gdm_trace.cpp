@@ -278,7 +278,7 @@ TEST_F(CliGdmTrace, ErrorsHaveTheirCodesAndWriteNothing) {
         {"gdm trace " + quoted(out.path()) + " --output uvw" + o, 2, "not a GDM asset"},
         {"gdm trace " + quoted(*dir / "noraw") + " --gdm raw --output uvw" + o, 3, "--keep-raw"},
         {"gdm trace " + quoted(*dir / "nosolid") + " --reference --output mask" + o, 3, "bake it again"},
-        {"gdm trace " + weave + " --output depth" + o, 1, "--output must be uvw, shadow or mask"},
+        {"gdm trace " + weave + " --output depth" + o, 1, "--output must be uvw, shadow, mask or shaded"},
         {"gdm trace " + weave + o, 1, "--output"},
         {"gdm trace " + weave + " --output uvw", 1, "-o"},
         {"gdm trace " + weave + " --output uvw --size 256" + o, 1, "--size"},
