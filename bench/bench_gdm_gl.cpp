@@ -8,9 +8,17 @@
 // and the teapot at tiling 6 framed as `strata gdm trace --mesh` frames it (`teapot`), each with the rank-8
 // SVD and with the raw GDM (134 MB in a storage buffer). GPU memory of the GDM: rank 8 4.0 MiB of maps,
 // raw 128 MiB.
+// `technique`: the quad at 512 x 512 with each technique (gdm on the rank-8 SVD, refine, march) at depth
+// resolutions 16 and 32 (the weave baked at 64 x 64 x 32 as well): the paper's gdm / slice-based ratio
+// (60 vs 32 fps at 64 x 64 x 16, 57 vs 15 at 64 x 64 x 32) is the march / gdm time ratio here.
+// `accuracy`: each technique against the exact reference on the §8 quad at 45 degrees, 256 x 256, raw GDM;
+// counters only (the table in docs/gdm.md), times not meaningful.
 // Run: build/ci/bench/bench_gdm_gl --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+//      build/ci/bench/bench_gdm_gl --benchmark_filter=accuracy --benchmark_counters_tabular=true
+#include "strata/gdm/gdm_asset.h"
 #include "strata/gdm/gdm_bake.h"
 #include "strata/gdm/gdm_svd.h"
+#include "strata/gdm/gdm_trace.h"
 #include "strata/gdm/mesostructure.h"
 #include "strata/gdm/mesostructure_mesh.h"
 #include "strata/gl/context.h"
@@ -22,13 +30,28 @@
 
 #include <cmath>
 #include <memory>
+#include <string>
 
 namespace {
 
-const strata::Gdm& weave() {
-    static const strata::Gdm gdm =
-        strata::bakeGdm(strata::meshMesostructure(strata::makeMesostructure("weave"), 64), strata::GdmDims{});
-    return gdm;
+const strata::SolidMesh& weaveSolid() {
+    static const strata::SolidMesh solid = strata::meshMesostructure(strata::makeMesostructure("weave"), 64);
+    return solid;
+}
+
+const strata::Gdm& weave(int depth = 16) {
+    static const strata::Gdm gdm16 = strata::bakeGdm(weaveSolid(), strata::GdmDims{});
+    static const strata::Gdm gdm32 = strata::bakeGdm(weaveSolid(), strata::GdmDims{64, 64, 32, 16, 32});
+    return depth == 32 ? gdm32 : gdm16;
+}
+
+strata::Camera quadView() {
+    const double a = 45.0 * 3.14159265358979323846 / 180.0;
+    strata::Camera camera;
+    camera.eye = glm::dvec3(0.5, 0.5 - 1.6 * std::sin(a), 1.6 * std::cos(a));
+    camera.target = glm::dvec3(0.5, 0.5, 0.0);
+    camera.fovYDegrees = 45.0;
+    return camera;
 }
 
 strata::gl::HeadlessContext& context() {
@@ -54,18 +77,62 @@ void frame(benchmark::State& state) {
     if (teapot) {
         camera = strata::frameCamera(strata::meshBounds(mesh), 1.0, 45.0);
     } else {
-        const double a = 45.0 * 3.14159265358979323846 / 180.0;
-        camera.eye = glm::dvec3(0.5, 0.5 - 1.6 * std::sin(a), 1.6 * std::cos(a));
-        camera.target = glm::dvec3(0.5, 0.5, 0.0);
-        camera.fovYDegrees = 45.0;
+        camera = quadView();
     }
     const glm::dvec3 light(0.5, -0.6, 1.1);
     for (auto _ : state) benchmark::DoNotOptimize(renderer.render(camera, light, kSize, kSize));
     state.SetLabel(std::string(teapot ? "teapot" : "quad") + (state.range(1) == 0 ? ", rank 8" : ", raw"));
 }
 
+constexpr strata::gl::GdmTechnique kTechniques[] = {
+    strata::gl::GdmTechnique::Gdm, strata::gl::GdmTechnique::Refine, strata::gl::GdmTechnique::March};
+constexpr const char* kTechniqueNames[] = {"gdm", "refine", "march"};
+
+// range(0): technique; range(1): depth resolution 16 or 32.
+void technique(benchmark::State& state) {
+    context().makeCurrent();
+    const strata::Gdm& gdm = weave(int(state.range(1)));
+    strata::gl::GdmRenderer renderer;
+    renderer.setGdm(strata::compressGdm(gdm, 8));
+    renderer.setVolumes(strata::gdmOccupancy(gdm), {});
+    renderer.setMesh(strata::makeBuiltinMesh("quad"), {});
+    const strata::gl::GdmTechnique which = kTechniques[state.range(0)];
+    for (auto _ : state)
+        benchmark::DoNotOptimize(renderer.render(quadView(), glm::dvec3(0.5, -0.6, 1.1), 512, 512,
+                                                 strata::GdmDirectionLookup::Nearest, which));
+    state.SetLabel(std::string(kTechniqueNames[state.range(0)]) + ", depth " +
+                   std::to_string(state.range(1)));
+}
+
+void accuracy(benchmark::State& state) {
+    context().makeCurrent();
+    const strata::Gdm& gdm = weave();
+    strata::gl::GdmRenderer renderer;
+    renderer.setGdm(gdm);
+    renderer.setVolumes(strata::gdmOccupancy(gdm), {});
+    renderer.setMesh(strata::makeBuiltinMesh("quad"), {});
+    const glm::dvec3 light(0.5, -0.6, 1.1);
+    static const strata::GdmSceneImages reference =
+        strata::renderGdmReference(weaveSolid(), quadView(), light, 256, 256);
+    strata::GdmSceneAccuracy error;
+    for (auto _ : state)
+        error = strata::compareGdmScenes(
+            reference,
+            renderer.render(quadView(), light, 256, 256, strata::GdmDirectionLookup::Nearest,
+                            kTechniques[state.range(0)]),
+            gdm.height, gdm.height / gdm.dims.nz);
+    state.counters["hitmiss%"] = error.hitMissDisagreePercent;
+    state.counters["mean_vox"] = error.uvwMeanVoxels;
+    state.counters["p95_vox"] = error.uvwP95Voxels;
+    state.counters["p99_vox"] = error.uvwP99Voxels;
+    state.counters["shadow%"] = error.shadowAgreePercent;
+    state.SetLabel(kTechniqueNames[state.range(0)]);
+}
+
 }  // namespace
 
+BENCHMARK(technique)->ArgsProduct({{0, 1, 2}, {16, 32}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(accuracy)->DenseRange(0, 2)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(frame)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

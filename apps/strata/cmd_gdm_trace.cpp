@@ -59,6 +59,7 @@ struct GdmTraceOptions {
     std::string mesh;  // --gl only: a built-in or a mesh file whose prism shell is drawn
     double tiling = 1.0;              // tiles per uv unit on --mesh
     std::optional<double> thickness;  // T in world units on --mesh; default H times a tile's world length
+    std::string technique;            // --gl only: gdm (default) | refine | march
     std::string gdm;                  // svd (default) | raw; empty: not given
     std::string lookup;               // nearest (default) | bilinear; empty: not given
     fs::path file;
@@ -114,6 +115,15 @@ void runGdmTrace(const GdmTraceOptions& options) {
     if (options.thickness && !(std::isfinite(*options.thickness) && *options.thickness > 0.0))
         throw Error(ErrorKind::Usage, "gdm trace: --thickness must be > 0 world units, got " +
                                           formatNumber(*options.thickness));
+    if (!options.technique.empty() && !options.gl)
+        throw Error(ErrorKind::Usage, "gdm trace: --technique is the OpenGL renderer's: give --gl with it");
+    const std::string techniqueName = options.technique.empty() ? "gdm" : options.technique;
+    if (techniqueName != "gdm" && techniqueName != "refine" && techniqueName != "march")
+        throw Error(ErrorKind::Usage,
+                    "gdm trace: --technique must be gdm, refine or march, got \"" + techniqueName + "\"");
+    const gl::GdmTechnique technique = techniqueName == "refine"  ? gl::GdmTechnique::Refine
+                                       : techniqueName == "march" ? gl::GdmTechnique::March
+                                                                  : gl::GdmTechnique::Gdm;
     const std::string gdmName = options.gdm.empty() ? "svd" : options.gdm;
     if (gdmName != "svd" && gdmName != "raw")
         throw Error(ErrorKind::Usage, "gdm trace: --gdm must be svd or raw, got \"" + gdmName + "\"");
@@ -158,7 +168,8 @@ void runGdmTrace(const GdmTraceOptions& options) {
     std::string what;
     // The GL path needs a context for as long as it draws; made before the asset's work starts failing late.
     std::unique_ptr<gl::HeadlessContext> context;
-    std::string engine = options.gl ? ", OpenGL" : "";
+    std::string engine =
+        options.gl ? ", OpenGL" + (options.technique.empty() ? std::string() : ", " + options.technique) : "";
     if (options.gl) context = gl::HeadlessContext::create();
     // --mesh: its prism shell instead of the quad's; framed like `strata render` unless a view is given.
     std::optional<Mesh> mesh;
@@ -180,14 +191,15 @@ void runGdmTrace(const GdmTraceOptions& options) {
         gl::GdmRenderer renderer;
         renderer.setGdm(gdm);
         renderer.setMesh(mesh ? *mesh : makeBuiltinMesh("quad"), shell);
-        if (output == TraceOutput::Shaded) {
+        if (output == TraceOutput::Shaded || technique != gl::GdmTechnique::Gdm)
             renderer.setVolumes(asset.occupancy, asset.albedo);
-            shaded = renderer.renderShaded(view, light, width, height, lookup);
+        if (output == TraceOutput::Shaded) {
+            shaded = renderer.renderShaded(view, light, width, height, lookup, technique);
             images.mask = Image(width, height, 1);
             for (int y = 0; y < height; ++y)
                 for (int x = 0; x < width; ++x) images.mask.at(x, y) = shaded.at(x, y, 3);
         } else {
-            images = renderer.render(view, light, width, height, lookup);
+            images = renderer.render(view, light, width, height, lookup, technique);
         }
     };
     if (options.reference) {
@@ -287,6 +299,10 @@ void addGdmTraceCommand(CLI::App& gdm) {
     command->add_option("--thickness", options->thickness,
                         "With --mesh: the shell's thickness T in world units (default: H times the world "
                         "length of one tile)");
+    command->add_option(
+        "--technique", options->technique,
+        "With --gl: gdm (the paper's lookup, default), refine (then the occupancy near the hit) or "
+        "march (the occupancy every voxel, no GDM)");
     command->add_option("--lookup", options->lookup,
                         "Direction lookup of the emulation: nearest (default) or bilinear");
     command->add_option("-o,--out", options->file, "Output PNG");

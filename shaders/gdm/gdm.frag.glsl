@@ -49,6 +49,7 @@ uniform vec3 uEye;
 uniform vec3 uLight;
 uniform int uOutput;       // 0 uvw, 1 shadow, 2 the prism's id + 1 (the crack test), 3 shaded
 uniform bool uHasAlbedo;
+uniform int uTechnique;    // 0 gdm: the paper's lookup; 1 refine: the lookup, then the occupancy near it; 2 march
 uniform ivec3 uVoxels;     // Nx, Ny, Nz
 uniform ivec2 uDirections; // Ntheta, Nphi
 uniform float uHeight;     // H
@@ -190,6 +191,23 @@ vec3 shade(vec3 texturePoint, vec3 worldPoint, vec3 direction, bool lit) {
     return colour * (0.2 + 0.8 * diffuse * light) + vec3(0.15 * specular * light);
 }
 
+// The first point along the segment T_in + s V, 0 <= s < dt, where the occupancy volume reaches 0.5,
+// sampled every `step` from `from` to `to`, the crossing placed by linear interpolation between the last
+// sample below and the first at or above: x = distance, y = 1 if there is none.
+vec2 marchOccupancy(vec3 start, vec3 direction, float from, float to, float step) {
+    float previousAt = from;
+    float previous = occupancyAt(start + from * direction);
+    if (previous >= 0.5) return vec2(from, 0.0);
+    while (previousAt < to) {
+        float at = min(previousAt + step, to);
+        float value = occupancyAt(start + at * direction);
+        if (value >= 0.5) return vec2(mix(previousAt, at, (0.5 - previous) / max(value - previous, 1e-6)), 0.0);
+        previousAt = at;
+        previous = value;
+    }
+    return vec2(1e30, 1.0);
+}
+
 void main() {
     if (uOutput == 2) {
         fragColor = vec4(float(vIn.prism + 1u), 0.0, 0.0, 1.0);
@@ -226,7 +244,20 @@ void main() {
     float dt = length(segment);
     if (dt <= 0.0) discard;
     vec3 direction = segment / dt;
-    vec2 hit = lookupGdm(vIn.texturePosition, direction, -1.0);
+    float voxel = uHeight / float(uVoxels.z);
+    vec2 hit;
+    if (uTechnique == 2) {
+        // march: the occupancy every voxel from T_in to T_out, no GDM (the paper's slice-based comparison).
+        hit = marchOccupancy(vIn.texturePosition, direction, 0.0, dt, voxel);
+    } else {
+        hit = lookupGdm(vIn.texturePosition, direction, -1.0);
+        if (uTechnique == 1 && hit.y < 0.5 && hit.x < dt) {
+            // refine: the occupancy's crossing within two voxels of the GDM's answer, a quarter voxel apart.
+            vec2 near = marchOccupancy(vIn.texturePosition, direction, max(hit.x - 2.0 * voxel, 0.0),
+                                       min(hit.x + 2.0 * voxel, dt), 0.25 * voxel);
+            if (near.y < 0.5) hit = near;
+        }
+    }
     if (hit.y > 0.5 || hit.x >= dt) discard;
     vec3 texturePoint = vIn.texturePosition + hit.x * direction;
     vec3 worldPoint = origin + (hit.x / dt) * tExit * ray;
@@ -235,7 +266,6 @@ void main() {
     if (uOutput == 0) {
         fragColor = vec4(fract(texturePoint.x), fract(texturePoint.y), clamp(texturePoint.z / uHeight, 0.0, 1.0), 1.0);
     } else {
-        float voxel = uHeight / float(uVoxels.z);
         vec3 back = texturePoint - kShadowBackoffVoxels * voxel * direction;
         vec3 toLight = normalize(uLight - worldPoint);
         vec2 shadow = lookupGdm(back, toLight, kShadowDropVoxels * voxel);

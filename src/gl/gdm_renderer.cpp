@@ -120,7 +120,7 @@ struct GdmRenderer::Impl {
     // reads the RGBA float picture back, top row first.
     std::vector<float> draw(const VertexArray& array, GLsizei count, int output, bool cull,
                             const Camera& camera, const glm::dvec3& light, int width, int height,
-                            GdmDirectionLookup directions) {
+                            GdmDirectionLookup directions, GdmTechnique technique = GdmTechnique::Gdm) {
         const double radius = 0.5 * glm::length(hi - lo);
         const double distance = glm::length(0.5 * (lo + hi) - camera.eye);
         const double farPlane = distance + 2.0 * radius + 1e-6;
@@ -143,6 +143,9 @@ struct GdmRenderer::Impl {
                     directions == GdmDirectionLookup::Bilinear);
         glUniform1i(program.uniformLocation("uOutput"), output);
         glUniform1i(program.uniformLocation("uHasAlbedo"), hasAlbedo ? 1 : 0);
+        glUniform1i(program.uniformLocation("uTechnique"), technique == GdmTechnique::Gdm      ? 0
+                                                           : technique == GdmTechnique::Refine ? 1
+                                                                                               : 2);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, faces.id);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, weights.id);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, eigen.id);
@@ -274,16 +277,19 @@ void GdmRenderer::setMesh(const Mesh& mesh, const PrismShellOptions& shellOption
 }
 
 GdmSceneImages GdmRenderer::render(const Camera& camera, glm::dvec3 light, int width, int height,
-                                   GdmDirectionLookup directions) {
+                                   GdmDirectionLookup directions, GdmTechnique technique) {
     validateCamera(camera);
     checkPicture(width, height);
     if (!mImpl->hasMesh) throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM and the mesh first");
+    if (technique != GdmTechnique::Gdm && !mImpl->hasOccupancy)
+        throw Error(ErrorKind::InvalidInput,
+                    "GdmRenderer: refine and march read the occupancy volume (setVolumes)");
     const BindingGuard guard;
     mImpl->target.ensure(width, height, GL_RGBA32F, "GdmRenderer");
     GdmSceneImages images{Image(width, height, 4), Image(width, height, 1), Image(width, height, 1)};
     for (int output = 0; output < 2; ++output) {
         const std::vector<float> pixels = mImpl->draw(mImpl->entryArray, mImpl->entryCount, output, true,
-                                                      camera, light, width, height, directions);
+                                                      camera, light, width, height, directions, technique);
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
                 const float* p = pixels.data() + (std::size_t(y) * std::size_t(width) + std::size_t(x)) * 4;
@@ -318,7 +324,7 @@ void GdmRenderer::setVolumes(const std::vector<std::uint8_t>& occupancy,
 }
 
 Image GdmRenderer::renderShaded(const Camera& camera, glm::dvec3 light, int width, int height,
-                                GdmDirectionLookup directions) {
+                                GdmDirectionLookup directions, GdmTechnique technique) {
     validateCamera(camera);
     checkPicture(width, height);
     if (!mImpl->hasMesh) throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM and the mesh first");
@@ -326,8 +332,8 @@ Image GdmRenderer::renderShaded(const Camera& camera, glm::dvec3 light, int widt
         throw Error(ErrorKind::InvalidInput, "GdmRenderer: shading needs the occupancy volume (setVolumes)");
     const BindingGuard guard;
     mImpl->target.ensure(width, height, GL_RGBA32F, "GdmRenderer");
-    const std::vector<float> pixels =
-        mImpl->draw(mImpl->entryArray, mImpl->entryCount, 3, true, camera, light, width, height, directions);
+    const std::vector<float> pixels = mImpl->draw(mImpl->entryArray, mImpl->entryCount, 3, true, camera,
+                                                  light, width, height, directions, technique);
     Image image(width, height, 4);
     std::copy(pixels.begin(), pixels.end(), image.row(0));
     return image;

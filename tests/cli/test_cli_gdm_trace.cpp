@@ -251,6 +251,14 @@ TEST_F(CliGdmTrace, OpenGlDrawsTheShellOfAnyMesh) {
     EXPECT_EQ(opaque, hits);  // the same rays hit
     EXPECT_EQ(
         runCli("gdm trace " + quoted(weave) + " --output shaded -o " + quoted(*dir / "no.png")).exitCode, 1);
+    // The techniques: --technique needs --gl, and names one of three.
+    const auto march =
+        runCli("gdm trace " + quoted(weave) + " --gl --technique march --size 96x72 --output mask -o " +
+               quoted(*dir / "march.png"));
+    ASSERT_EQ(march.exitCode, 0) << march.output;
+    const std::string no = " --output mask -o " + quoted(*dir / "no.png");
+    EXPECT_EQ(runCli("gdm trace " + quoted(weave) + " --technique march" + no).exitCode, 1);
+    EXPECT_EQ(runCli("gdm trace " + quoted(weave) + " --gl --technique slices" + no).exitCode, 1);
     // --mesh is the GL renderer's, and --tiling / --thickness are --mesh's.
     const std::string out = " --output mask -o " + quoted(*dir / "no.png");
     EXPECT_EQ(runCli("gdm trace " + quoted(weave) + " --mesh torus" + out).exitCode, 1);

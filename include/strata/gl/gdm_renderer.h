@@ -48,6 +48,16 @@ GdmSceneImages renderGdmMesh(const GdmSvd& svd, const Mesh& mesh, const PrismShe
 // Which faces GdmRenderer::renderPrismIds draws.
 enum class PrismFaces { Base, Shell };
 
+// How a prism finds its hit along the segment T_in -> T_out (issue 18):
+enum class GdmTechnique {
+    Gdm,     // the paper's: one GDM lookup d(T_in, V), a hit if d < dt. Default.
+    Refine,  // the lookup, then the occupancy volume's 0.5 crossing within two voxels of it, sampled every
+             // quarter voxel (linear between samples); the lookup's answer where there is none. Misses stay.
+    March,   // no GDM: the occupancy volume sampled every voxel (H / Nz) from T_in to T_out, the first 0.5
+             // crossing (linear between samples). Its cost grows with the depth resolution: the baseline of
+             // the paper's comparison with slice-based rendering.
+};
+
 // The renderer behind the functions above, for drawing many pictures: the program is built once, the GDM
 // and the mesh's shell are uploaded once (storage buffers), and each render() draws and reads back. Needs
 // the context that made it to be current in every call, and when it is destroyed.
@@ -66,8 +76,11 @@ public:
     // Error(InvalidInput) before setGdm, and as buildPrismShell.
     void setMesh(const Mesh& mesh, const PrismShellOptions& shell);
 
+    // Refine and March need the occupancy volume (setVolumes); the shadow is the GDM lookup's in every
+    // technique.
     GdmSceneImages render(const Camera& camera, glm::dvec3 light, int width, int height,
-                          GdmDirectionLookup directions = GdmDirectionLookup::Nearest);
+                          GdmDirectionLookup directions = GdmDirectionLookup::Nearest,
+                          GdmTechnique technique = GdmTechnique::Gdm);
 
     // The volumes for shading (GdmAsset's occupancy and, optional, sRGB albedo; x fastest, §8), for the
     // GDM set last. Throws Error(InvalidInput) before setGdm or for sizes that are not the GDM's voxels.
@@ -77,7 +90,8 @@ public:
     // interpolated tangent frame; the albedo is the nearest voxel's (0.7 grey without one); Blinn-Phong from
     // the point light, with the local shadow of render(). Throws Error(InvalidInput) without the volumes.
     Image renderShaded(const Camera& camera, glm::dvec3 light, int width, int height,
-                       GdmDirectionLookup directions = GdmDirectionLookup::Nearest);
+                       GdmDirectionLookup directions = GdmDirectionLookup::Nearest,
+                       GdmTechnique technique = GdmTechnique::Gdm);
 
     // The crack test's pictures: each pixel the id + 1 of the nearest prism face that covers it (0: none),
     // for the prisms' base faces (the mesh itself, no culling) or for the shell's faces as render() draws
