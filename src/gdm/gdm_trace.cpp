@@ -97,13 +97,6 @@ GdmSceneImages blankImages(int width, int height) {
     return {Image(width, height, 4), Image(width, height, 1), Image(width, height, 1)};
 }
 
-void checkPicture(int width, int height) {
-    if (width < 1 || height < 1 || width > Image::kMaxDimension || height > Image::kMaxDimension)
-        throw Error(ErrorKind::InvalidInput, "GDM scene: picture size " + std::to_string(width) + " x " +
-                                                 std::to_string(height) + " is outside [1, " +
-                                                 std::to_string(Image::kMaxDimension) + "]");
-}
-
 // The emulation's shadow lookup (gdm_trace.h): backed off this many voxels (H / Nz) towards the eye, and
 // ignoring the corners whose value is below this many voxels (inside the solid or touching it). Chosen on
 // the sphere of test_gdm_trace.cpp (all of it lit): without either, 99% of its lit pixels read as
@@ -190,7 +183,7 @@ GdmSceneImages emulate(const GdmDims& dims, double shell, double tolerance, cons
                        const Camera& camera, const glm::dvec3& light, int width, int height,
                        GdmDirectionLookup directions) {
     validateCamera(camera);
-    checkPicture(width, height);
+    validateGdmPicture(width, height);
     GdmSceneImages images = blankImages(width, height);
     const double voxel = shell / dims.nz;
     parallelFor(0, height, [&](int j) {
@@ -238,11 +231,18 @@ GdmSceneImages emulate(const GdmDims& dims, double shell, double tolerance, cons
 
 }  // namespace
 
+void validateGdmPicture(int width, int height) {
+    if (width < 1 || height < 1 || width > Image::kMaxDimension || height > Image::kMaxDimension)
+        throw Error(ErrorKind::InvalidInput, "GDM scene: picture size " + std::to_string(width) + " x " +
+                                                 std::to_string(height) + " is outside [1, " +
+                                                 std::to_string(Image::kMaxDimension) + "]");
+}
+
 GdmSceneImages renderGdmReference(const SolidMesh& solid, const Camera& camera, glm::dvec3 light, int width,
                                   int height) {
     const std::string what = "GDM reference of " + solid.source;
     validateCamera(camera);
-    checkPicture(width, height);
+    validateGdmPicture(width, height);
     if (!(std::isfinite(solid.height) && solid.height > 0.0))
         throw Error(ErrorKind::InvalidInput,
                     what + ": shell height " + formatNumber(solid.height) + " is not finite and > 0");

@@ -62,13 +62,6 @@ struct Vertex {
     float normal[3];
 };
 
-void checkPicture(int width, int height) {
-    if (width < 1 || height < 1 || width > Image::kMaxDimension || height > Image::kMaxDimension)
-        throw Error(ErrorKind::InvalidInput, "GDM scene: picture size " + std::to_string(width) + " x " +
-                                                 std::to_string(height) + " is outside [1, " +
-                                                 std::to_string(Image::kMaxDimension) + "]");
-}
-
 }  // namespace
 
 struct GdmRenderer::Impl {
@@ -279,7 +272,7 @@ void GdmRenderer::setMesh(const Mesh& mesh, const PrismShellOptions& shellOption
 GdmSceneImages GdmRenderer::render(const Camera& camera, glm::dvec3 light, int width, int height,
                                    GdmDirectionLookup directions, GdmTechnique technique) {
     validateCamera(camera);
-    checkPicture(width, height);
+    validateGdmPicture(width, height);
     if (!mImpl->hasMesh) throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM and the mesh first");
     if (technique != GdmTechnique::Gdm && !mImpl->hasOccupancy)
         throw Error(ErrorKind::InvalidInput,
@@ -326,7 +319,7 @@ void GdmRenderer::setVolumes(const std::vector<std::uint8_t>& occupancy,
 Image GdmRenderer::renderShaded(const Camera& camera, glm::dvec3 light, int width, int height,
                                 GdmDirectionLookup directions, GdmTechnique technique) {
     validateCamera(camera);
-    checkPicture(width, height);
+    validateGdmPicture(width, height);
     if (!mImpl->hasMesh) throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM and the mesh first");
     if (!mImpl->hasOccupancy)
         throw Error(ErrorKind::InvalidInput, "GdmRenderer: shading needs the occupancy volume (setVolumes)");
@@ -341,7 +334,7 @@ Image GdmRenderer::renderShaded(const Camera& camera, glm::dvec3 light, int widt
 
 Image GdmRenderer::renderPrismIds(const Camera& camera, int width, int height, PrismFaces faces) {
     validateCamera(camera);
-    checkPicture(width, height);
+    validateGdmPicture(width, height);
     if (!mImpl->hasMesh) throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM and the mesh first");
     const BindingGuard guard;
     mImpl->target.ensure(width, height, GL_RGBA32F, "GdmRenderer");
@@ -365,7 +358,7 @@ GdmSceneImages renderOnce(const Source& source, const Mesh& mesh, const PrismShe
                           const Camera& camera, glm::dvec3 light, int width, int height,
                           GdmDirectionLookup directions) {
     validateCamera(camera);
-    checkPicture(width, height);
+    validateGdmPicture(width, height);
     GdmRenderer renderer;
     renderer.setGdm(source);
     renderer.setMesh(mesh, shell);

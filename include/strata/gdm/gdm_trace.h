@@ -42,6 +42,10 @@ struct GdmSceneImages {
     Image shadow;  // 1 channel: 1 = lit
 };
 
+// Throws Error(InvalidInput) "GDM scene: picture size W x H is outside [1, Image::kMaxDimension]" for a
+// picture the scene renderers (these, and strata::gl's) refuse.
+void validateGdmPicture(int width, int height);
+
 // The exact reference, with Embree on the solid mesh (the bake's periodic scene, src/gdm/periodic_scene.h).
 // Per pixel: the ray's entry point into the box; if that point lies inside the periodic solid (the bake's
 // winding-number test) the ray hits there, on the cut face, whose normal is the box face's outward normal.
