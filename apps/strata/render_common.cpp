@@ -58,7 +58,7 @@ void addSceneFlags(CLI::App& command, SceneFlags& f) {
     command.add_option("scene", f.sceneFile, "Scene file (JSON, docs/scenes.md); flags override its keys")
         ->check(CLI::ExistingFile);
     command.add_option("--mesh", f.mesh,
-                       "Built-in mesh (teapot, cube, sphere, torus, cylinder, plane, quad) or "
+                       "Built-in mesh (teapot, cube, sphere, torus, cylinder, vase, patch, plane, quad) or "
                        "a mesh file (.obj, .gltf, .glb)");
     command.add_option("--tessellation", f.tessellation, "Tessellation of a built-in mesh")
         ->check(CLI::Range(1, 256));
@@ -107,8 +107,28 @@ void addSceneFlags(CLI::App& command, SceneFlags& f) {
         ->check(CLI::Range(1, 16));
     command.add_option("--light", f.light, "Point light position X,Y,Z");
     command
-        .add_option("--output", f.output, "What a pixel holds: shaded, uv, shadow or depth (CONVENTIONS §7)")
-        ->check(CLI::IsMember({"shaded", "uv", "shadow", "depth"}));
+        .add_option(
+            "--output", f.output,
+            "What a pixel holds: shaded, uv, shadow or depth (CONVENTIONS §7); with --gdm shaded, uvw, "
+            "shadow or mask (§8)")
+        ->check(CLI::IsMember({"shaded", "uv", "shadow", "depth", "uvw", "mask"}));
+    command.add_option(
+        "--gdm", f.gdm,
+        "Draw a generalized displacement map in the mesh's prism shell instead of a relief "
+        "material: a GDM asset directory (strata gdm bake) or a built-in mesostructure (weave, "
+        "chain, grid, scales, bark; baked on the fly)");
+    command
+        .add_option(
+            "--gdm-technique", f.gdmTechnique,
+            "With --gdm: gdm (the paper's lookup, default), refine (exact steps near its hit) or march "
+            "(the occupancy every voxel)")
+        ->check(CLI::IsMember({"gdm", "refine", "march"}));
+    command.add_option("--gdm-rank", f.gdmRank,
+                       "With --gdm: the SVD terms the lookups read (default: all the asset stores, 8 for a "
+                       "built-in), or raw (the raw GDM)");
+    command.add_option("--shell-thickness", f.shellThickness,
+                       "With --gdm: the prism shell's thickness T in world units (default: H times the world "
+                       "length of one tile)");
 }
 
 Scene buildScene(const SceneFlags& f) {
@@ -152,13 +172,35 @@ Scene buildScene(const SceneFlags& f) {
     if (f.samples) p.samples = *f.samples;
     if (!f.light.empty()) scene.lighting.lightPosition = parseVec3(f.light, "--light");
     if (!f.output.empty()) p.output = parseRenderOutput(f.output);
+    GdmSettings& gdm = scene.gdm;
+    if (!f.gdm.empty()) gdm.source = f.gdm;
+    if (!f.gdmTechnique.empty()) gdm.technique = parseGdmTechnique(f.gdmTechnique);
+    if (!f.gdmRank.empty()) {
+        try {
+            gdm.rank = parseGdmRank(f.gdmRank);
+        } catch (const Error& e) {
+            throw Error(ErrorKind::Usage, std::string("--gdm-rank: ") + e.what());
+        }
+    }
+    if (f.shellThickness) gdm.shellThickness = *f.shellThickness;
+    if (!gdm.source.empty() && (!f.material.empty() || !scene.depthMap.empty()))
+        throw Error(
+            ErrorKind::Usage,
+            "--gdm draws a mesostructure instead of a material: give no --material or --depth-map with "
+            "it");
     validate(r);
     validate(scene.lighting);
     validate(p);
+    validate(gdm, p);
     return scene;
 }
 
 std::vector<RenderedScene> renderScene(const Scene& scene, const std::vector<Technique>& techniques) {
+    if (!scene.gdm.source.empty()) {
+        if (!techniques.empty())
+            throw Error(ErrorKind::Usage, "a GDM scene has no relief techniques to compare (give no --gdm)");
+        return renderGdmScene(scene);
+    }
     const auto start = std::chrono::steady_clock::now();
     // The context first: without one nothing else is worth doing.
     const auto context = gl::HeadlessContext::create();

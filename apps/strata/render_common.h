@@ -38,6 +38,11 @@ struct SceneFlags {
     std::optional<int> samples;
     std::string light;  // "X,Y,Z"
     std::string output;
+    // A GDM render (GdmSettings): the asset or built-in, and its technique, rank and shell thickness.
+    std::string gdm;
+    std::string gdmTechnique;
+    std::string gdmRank;  // K or raw
+    std::optional<double> shellThickness;
 };
 
 // A vector flag such as --eye 0.5,-1,1: three finite numbers separated by commas. Throws Error(Usage)
@@ -58,8 +63,14 @@ struct RenderedScene {
     std::string summary;                        // e.g. "teapot, relief 10+5, S = 0.08, 1280x720, 4x MSAA"
 };
 
-// Loads the mesh and material, makes a headless GL context and renders `scene`. `techniques`: when not
+// Loads the mesh and material (or the GDM, for a GDM render: renderGdmScene), makes a headless GL context and
+// renders `scene`. `techniques`: when not
 // empty, renders once per technique (same everything else) and returns the pictures in that order.
 std::vector<RenderedScene> renderScene(const Scene& scene, const std::vector<Technique>& techniques = {});
+
+// A GDM render (scene.gdm.source set, render_gdm.cpp): the scene's GDM (loadSceneGdm) in the prism shell of
+// its mesh, one picture per technique in `techniques` (the scene's own when empty).
+std::vector<RenderedScene> renderGdmScene(const Scene& scene,
+                                          const std::vector<GdmTechnique>& techniques = {});
 
 }  // namespace strata::cli

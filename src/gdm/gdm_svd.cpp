@@ -436,6 +436,28 @@ GdmSvd compressGdm(const Gdm& gdm, int rank, GdmLayout layout) {
     return svd;
 }
 
+GdmSvd truncateGdmSvd(const GdmSvd& svd, int rank) {
+    if (rank < 1 || rank > svd.rank)
+        throw Error(ErrorKind::InvalidInput, "GDM rank " + std::to_string(rank) + " is not in [1, " +
+                                                 std::to_string(svd.rank) + "], the ranks this SVD stores");
+    GdmSvd out;
+    out.dims = svd.dims;
+    out.height = svd.height;
+    out.layout = svd.layout;
+    out.rank = rank;
+    out.rows = svd.rows;
+    out.cols = svd.cols;
+    out.exitTolerance = svd.exitTolerance;
+    const auto k = std::size_t(rank), stored = std::size_t(svd.rank);
+    out.weights.resize(svd.rows * k);
+    for (std::size_t row = 0; row < svd.rows; ++row)
+        std::copy_n(svd.weights.begin() + std::ptrdiff_t(row * stored), k,
+                    out.weights.begin() + std::ptrdiff_t(row * k));
+    out.eigen.assign(svd.eigen.begin(), svd.eigen.begin() + std::ptrdiff_t(k * svd.cols));
+    out.singularValues.assign(svd.singularValues.begin(), svd.singularValues.begin() + std::ptrdiff_t(k));
+    return out;
+}
+
 float reconstruct(const GdmSvd& svd, int i, int j, int k, int t, int s) {
     STRATA_CHECK(i >= 0 && i < svd.dims.nx && j >= 0 && j < svd.dims.ny && k >= 0 && k < svd.dims.nz);
     STRATA_CHECK(t >= 0 && t < svd.dims.ntheta && s >= 0 && s < svd.dims.nphi);

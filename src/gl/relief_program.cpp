@@ -1,5 +1,7 @@
 #include "relief_program.h"
 
+#include "strata/core/check.h"
+
 #include <algorithm>
 
 namespace strata::gl {
@@ -112,6 +114,10 @@ std::vector<std::string> variantDefines(const ProgramVariant& variant) {
             break;
         case RenderOutput::Depth:
             defines.emplace_back("STRATA_OUTPUT_DEPTH");
+            break;
+        case RenderOutput::Uvw:
+        case RenderOutput::Mask:
+            STRATA_CHECK(!"a GDM output reaches the relief program (validate refuses it)");
             break;
     }
     if (variant.shadows) defines.emplace_back("STRATA_SHADOWS");

@@ -103,6 +103,7 @@ void validateRequest(const RenderRequest& request) {
     validate(request.relief);
     validate(request.lighting);
     validate(request.picture);
+    validate(GdmSettings{}, request.picture);  // a relief output: uvw and mask are a GDM render's
     validateCamera(request.camera);
     for (std::size_t i = 0; i < request.objects.size(); ++i) {
         if (request.objects[i].mesh == nullptr) {

@@ -6,9 +6,11 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <vector>
 
 namespace strata {
 namespace {
@@ -224,6 +226,64 @@ Mesh makeCylinder(int n) {
     return mesh;
 }
 
+// The vase's profile: radius r(t) and its derivative at height fraction t in [0, 1] (z = t - 0.5): a foot,
+// a round belly and a flared neck.
+constexpr double kVaseBelly = 0.16, kVaseBase = 0.22;
+double vaseRadius(double t) {
+    return kVaseBase + kVaseBelly * std::sin(std::numbers::pi * t) + 0.12 * t * t * t;
+}
+double vaseRadiusSlope(double t) {
+    return kVaseBelly * std::numbers::pi * std::cos(std::numbers::pi * t) + 0.36 * t * t;
+}
+
+Mesh makeVase(int n) {
+    const int around = 4 * n, along = 2 * n;
+    // v is the profile's arc length over the mean circumference, so that a uv square is about square in
+    // world units; the arc length by the trapezoid rule on a fine grid.
+    constexpr int kArcSteps = 4096;
+    std::vector<double> arc(kArcSteps + 1, 0.0);
+    double meanRadius = 0.0;
+    for (int k = 1; k <= kArcSteps; ++k) {
+        const double t0 = frac(k - 1, kArcSteps), t1 = frac(k, kArcSteps);
+        arc[std::size_t(k)] = arc[std::size_t(k - 1)] + std::hypot(vaseRadius(t1) - vaseRadius(t0), t1 - t0);
+        meanRadius += 0.5 * (vaseRadius(t0) + vaseRadius(t1)) / kArcSteps;
+    }
+    const double circumference = kTwoPi * meanRadius;
+    const auto arcAt = [&](double t) {
+        const double x = t * kArcSteps;
+        const int k = std::min(int(x), kArcSteps - 1);
+        return arc[std::size_t(k)] + (x - k) * (arc[std::size_t(k + 1)] - arc[std::size_t(k)]);
+    };
+    Mesh mesh;
+    appendGrid(mesh, around, along, [&](int i, int j) {
+        const double u = frac(i, around), t = frac(j, along);
+        // The seam's two columns of vertices at exactly the same positions (u = 1 at phi = 0).
+        const double phi = kTwoPi * frac(i % around, around), r = vaseRadius(t), slope = vaseRadiusSlope(t);
+        const glm::dvec3 radial(std::cos(phi), std::sin(phi), 0.0);
+        const glm::dvec3 p = r * radial + glm::dvec3(0, 0, t - 0.5);
+        const glm::dvec3 normal = radial - glm::dvec3(0, 0, slope);
+        const glm::dvec3 up = slope * radial + glm::dvec3(0, 0, 1);
+        return Sample{p, normal, {-std::sin(phi), std::cos(phi), 0.0}, up, {u, arcAt(t) / circumference}};
+    });
+    return mesh;
+}
+
+// A cylindrical arc of radius 0.6 over 120 degrees about the y axis, 1 wide: a curved, open patch.
+Mesh makePatch(int n) {
+    constexpr double kRadius = 0.6, kHalfAngle = std::numbers::pi / 3.0;
+    const int across = 2 * n, along = 2 * n;
+    Mesh mesh;
+    appendGrid(mesh, across, along, [&](int i, int j) {
+        const double a = (2.0 * frac(i, across) - 1.0) * kHalfAngle, y = frac(j, along) - 0.5;
+        const glm::dvec3 normal(std::sin(a), 0.0, std::cos(a));
+        const glm::dvec3 p(kRadius * std::sin(a), y, kRadius * (std::cos(a) - 1.0));
+        // uv in world units: the arc length from the patch's -x edge, and y + 0.5.
+        return Sample{
+            p, normal, {std::cos(a), 0.0, -std::sin(a)}, {0, 1, 0}, {kRadius * (a + kHalfAngle), y + 0.5}};
+    });
+    return mesh;
+}
+
 Mesh makePlane(int n) {
     Mesh mesh;
     appendGrid(mesh, n, n, [&](int i, int j) {
@@ -251,7 +311,7 @@ Mesh makeQuad() {
 }  // namespace
 
 std::vector<std::string> builtinMeshList() {
-    return {"teapot", "cube", "sphere", "torus", "cylinder", "plane", "quad"};
+    return {"teapot", "cube", "sphere", "torus", "cylinder", "vase", "patch", "plane", "quad"};
 }
 
 Mesh makeBuiltinMesh(const std::string& name, const BuiltinMeshParams& params) {
@@ -272,6 +332,10 @@ Mesh makeBuiltinMesh(const std::string& name, const BuiltinMeshParams& params) {
         mesh = makeTorus(n);
     } else if (name == "cylinder") {
         mesh = makeCylinder(n);
+    } else if (name == "vase") {
+        mesh = makeVase(n);
+    } else if (name == "patch") {
+        mesh = makePatch(n);
     } else if (name == "plane") {
         mesh = makePlane(n);
     } else if (name == "quad") {

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <iterator>
+#include <string>
 
 namespace strata {
 
@@ -37,6 +40,10 @@ const char* toString(RenderOutput output) {
             return "shadow";
         case RenderOutput::Depth:
             return "depth";
+        case RenderOutput::Uvw:
+            return "uvw";
+        case RenderOutput::Mask:
+            return "mask";
     }
     return "?";
 }
@@ -53,6 +60,18 @@ const char* toString(AoRescale rescale) {
     return "?";
 }
 
+const char* toString(GdmTechnique technique) {
+    switch (technique) {
+        case GdmTechnique::Gdm:
+            return "gdm";
+        case GdmTechnique::Refine:
+            return "refine";
+        case GdmTechnique::March:
+            return "march";
+    }
+    return "?";
+}
+
 Technique parseTechnique(const std::string& text) {
     for (Technique t : kAllTechniques) {
         if (text == toString(t)) return t;
@@ -63,12 +82,36 @@ Technique parseTechnique(const std::string& text) {
 }
 
 RenderOutput parseRenderOutput(const std::string& text) {
-    for (RenderOutput o :
-         {RenderOutput::Shaded, RenderOutput::Uv, RenderOutput::Shadow, RenderOutput::Depth}) {
+    for (RenderOutput o : {RenderOutput::Shaded, RenderOutput::Uv, RenderOutput::Shadow, RenderOutput::Depth,
+                           RenderOutput::Uvw, RenderOutput::Mask}) {
         if (text == toString(o)) return o;
     }
     throw Error(ErrorKind::InvalidInput,
-                "unknown output '" + text + "' (expected shaded, uv, shadow or depth)");
+                "unknown output '" + text +
+                    "' (expected shaded, uv, shadow or depth; with a GDM shaded, uvw, "
+                    "shadow or mask)");
+}
+
+GdmTechnique parseGdmTechnique(const std::string& text) {
+    for (GdmTechnique t : {GdmTechnique::Gdm, GdmTechnique::Refine, GdmTechnique::March}) {
+        if (text == toString(t)) return t;
+    }
+    throw Error(ErrorKind::InvalidInput,
+                "unknown GDM technique '" + text + "' (expected gdm, refine or march)");
+}
+
+int parseGdmRank(const std::string& text) {
+    if (text == "raw") return kGdmRankRaw;
+    std::size_t used = 0;
+    int rank = 0;
+    try {
+        rank = std::stoi(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used == 0 || used != text.size() || rank < 1)
+        throw Error(ErrorKind::InvalidInput, "GDM rank must be an integer >= 1 or 'raw', got '" + text + "'");
+    return rank;
 }
 
 AoRescale parseAoRescale(const std::string& text) {
@@ -122,6 +165,23 @@ void validate(const PictureSettings& p) {
     if (p.height < 1 || p.height > 8192) outOfRange("height", "in [1, 8192]", p.height);
     if (p.samples < 1 || p.samples > 16) outOfRange("samples", "in [1, 16]", p.samples);
     if (!finite(p.background)) throw Error(ErrorKind::InvalidInput, "background: must be finite");
+}
+
+void validate(const GdmSettings& gdm, const PictureSettings& picture) {
+    if (gdm.rank < 0 && gdm.rank != kGdmRankRaw) outOfRange("gdm_rank", ">= 1 or \"raw\"", gdm.rank);
+    if (gdm.shellThickness && !(std::isfinite(*gdm.shellThickness) && *gdm.shellThickness > 0.0))
+        outOfRange("shell_thickness", "> 0 (world units)", *gdm.shellThickness);
+    const bool isGdm = !gdm.source.empty();
+    const auto& outputs = isGdm ? kGdmOutputs : kReliefOutputs;
+    if (std::find(std::begin(outputs), std::end(outputs), picture.output) == std::end(outputs))
+        throw Error(ErrorKind::InvalidInput,
+                    std::string("output: ") + toString(picture.output) +
+                        (isGdm ? " is a relief output; a GDM render draws shaded, uvw, shadow or mask"
+                               : " is a GDM output (give a gdm); a relief render draws shaded, uv, shadow or "
+                                 "depth"));
+    if (!isGdm && (gdm.technique != GdmTechnique::Gdm || gdm.rank != 0 || gdm.shellThickness))
+        throw Error(ErrorKind::InvalidInput,
+                    "gdm_technique, gdm_rank and shell_thickness are for a GDM render: give a gdm");
 }
 
 }  // namespace strata

@@ -107,6 +107,22 @@ Scene parseScene(const json& document, const fs::path& source) {
     if (const auto r = readName(reader, "ao_rescale", parseAoRescale)) relief.aoRescale = *r;
     if (const auto m = readName(reader, "meta", parseMetaPath)) scene.meta = *m;
 
+    GdmSettings& gdm = scene.gdm;
+    if (const auto gdmSource = reader.string("gdm")) {
+        if (gdmSource->empty()) reader.fail("gdm", "must not be empty");
+        const fs::path asFile = resolve(baseDir, *gdmSource);
+        gdm.source = fs::exists(asFile) ? asFile.string() : *gdmSource;
+    }
+    if (const auto t = readName(reader, "gdm_technique", parseGdmTechnique)) gdm.technique = *t;
+    if (reader.has("gdm_rank")) {
+        if (document["gdm_rank"].is_number()) {
+            if (const auto k = reader.integer("gdm_rank", 1, 1 << 20)) gdm.rank = static_cast<int>(*k);
+        } else if (const auto r = readName(reader, "gdm_rank", parseGdmRank)) {
+            gdm.rank = *r;
+        }
+    }
+    if (const auto t = reader.number("shell_thickness")) gdm.shellThickness = *t;
+
     if (const json* cameraJson = reader.object("camera")) {
         ObjectReader cameraReader(*cameraJson, "camera", file);
         Camera camera;
@@ -151,6 +167,7 @@ Scene parseScene(const json& document, const fs::path& source) {
         validate(relief);
         validate(lighting);
         validate(picture);
+        validate(gdm, picture);
     } catch (const Error& e) {
         throw Error(ErrorKind::InvalidInput, file + ": " + e.what());
     }

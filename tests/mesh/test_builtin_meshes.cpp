@@ -6,9 +6,13 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <numbers>
+#include <utility>
 
 namespace strata {
 namespace {
@@ -206,6 +210,75 @@ TEST(BuiltinMeshes, SizesAndCounts) {
     EXPECT_EQ(makeBuiltinMesh("torus", {2}).vertices.size(), 9u * 9);
     EXPECT_EQ(meshBounds(Mesh{}).min, glm::vec3(0.0f));
     EXPECT_EQ(meshBounds(Mesh{}).max, glm::vec3(0.0f));
+}
+
+// Edges used by one triangle only (by position, so uv seams count as shared).
+std::size_t openEdges(const Mesh& mesh) {
+    std::map<std::pair<std::array<float, 3>, std::array<float, 3>>, int> uses;
+    const auto key = [&](std::uint32_t i) {
+        const glm::vec3& p = mesh.vertices[i].position;
+        return std::array<float, 3>{p.x, p.y, p.z};
+    };
+    for (std::size_t t = 0; t < mesh.indices.size(); t += 3)
+        for (int e = 0; e < 3; ++e) {
+            auto a = key(mesh.indices[t + std::size_t(e)]),
+                 b = key(mesh.indices[t + std::size_t((e + 1) % 3)]);
+            if (b < a) std::swap(a, b);
+            ++uses[{a, b}];
+        }
+    return std::size_t(std::count_if(uses.begin(), uses.end(), [](const auto& u) { return u.second == 1; }));
+}
+
+TEST(BuiltinMeshes, VaseIsOpenAtBothEndsWithIsotropicUvs) {
+    const Mesh vase = makeBuiltinMesh("vase", {8});
+    // Two rims of 4n edges each, nothing else open.
+    EXPECT_EQ(openEdges(vase), 2u * 32u);
+    const Bounds bounds = meshBounds(vase);
+    EXPECT_FLOAT_EQ(bounds.min.z, -0.5f);
+    EXPECT_FLOAT_EQ(bounds.max.z, 0.5f);
+    // The radius at the rims: r(0) = 0.22, r(1) = 0.22 + 0.12.
+    for (const MeshVertex& v : vase.vertices) {
+        const float r = std::hypot(v.position.x, v.position.y);
+        if (v.position.z == -0.5f) {
+            EXPECT_NEAR(r, 0.22f, 1e-6f);
+        }
+        if (v.position.z == 0.5f) {
+            EXPECT_NEAR(r, 0.34f, 1e-6f);
+        }
+    }
+    // A uv square is about square: the world area over the uv area, per unit of either, is the mean scale
+    // squared; |dP/du| and |dP/dv| averaged over the mesh agree within 10 % (they differ locally: the
+    // radius varies from 0.22 to 0.4 while u's scale is the mean circumference).
+    double su = 0.0, sv = 0.0, weight = 0.0;
+    for (std::size_t t = 0; t < vase.indices.size(); t += 3) {
+        const MeshVertex& a = vase.vertices[vase.indices[t]];
+        const MeshVertex& b = vase.vertices[vase.indices[t + 1]];
+        const MeshVertex& c = vase.vertices[vase.indices[t + 2]];
+        const glm::dvec3 e1 = b.position - a.position, e2 = c.position - a.position;
+        const glm::dvec2 d1 = b.uv - a.uv, d2 = c.uv - a.uv;
+        const double det = d1.x * d2.y - d2.x * d1.y;
+        const double area = 0.5 * glm::length(glm::cross(e1, e2));
+        su += area * glm::length((e1 * d2.y - e2 * d1.y) / det);
+        sv += area * glm::length((e2 * d1.x - e1 * d2.x) / det);
+        weight += area;
+    }
+    EXPECT_NEAR(su / sv, 1.0, 0.1);
+}
+
+TEST(BuiltinMeshes, PatchIsAnOpenArcWithUvInWorldUnits) {
+    const Mesh patch = makeBuiltinMesh("patch", {4});
+    // Its four sides, 2n edges each.
+    EXPECT_EQ(openEdges(patch), 4u * 8u);
+    for (const MeshVertex& v : patch.vertices) {
+        // On the cylinder of radius 0.6 about the axis (0, y, -0.6), with the radial normal.
+        const glm::vec3 fromAxis(v.position.x, 0.0f, v.position.z + 0.6f);
+        EXPECT_NEAR(glm::length(fromAxis), 0.6f, 1e-6f);
+        EXPECT_NEAR(glm::distance(v.normal, fromAxis / 0.6f), 0.0f, 1e-6f);
+        // u is the arc length from the rim at -60 degrees, v = y + 0.5.
+        const double angle = std::atan2(double(v.position.x), double(v.position.z) + 0.6);
+        EXPECT_NEAR(v.uv.x, 0.6 * (angle + std::numbers::pi / 3.0), 1e-6);
+        EXPECT_FLOAT_EQ(v.uv.y, v.position.y + 0.5f);
+    }
 }
 
 TEST(BuiltinMeshes, UnknownNameAndBadTessellationAreRefused) {

@@ -95,6 +95,33 @@ TEST(Scene, BadScenesNameTheKey) {
     expectRejected(R"([1, 2])", "must be a JSON object");
 }
 
+TEST(Scene, GdmKeysMakeAGdmRender) {
+    const Scene scene = parseScene(json::parse(R"({"mesh": "torus", "gdm": "chain", "gdm_technique": "refine",
+        "gdm_rank": 4, "shell_thickness": 0.05, "tiling": 6, "output": "uvw"})"),
+                                   "dir/scene.json");
+    EXPECT_EQ(scene.gdm.source, "chain");  // no such file: a built-in name, as it is
+    EXPECT_EQ(scene.gdm.technique, GdmTechnique::Refine);
+    EXPECT_EQ(scene.gdm.rank, 4);
+    EXPECT_EQ(scene.gdm.shellThickness, 0.05);
+    EXPECT_EQ(scene.picture.output, RenderOutput::Uvw);
+    EXPECT_EQ(
+        parseScene(json::parse(R"({"gdm": "weave", "gdm_rank": "raw", "output": "mask"})"), "").gdm.rank,
+        kGdmRankRaw);
+    // Without "gdm" nothing is a GDM render.
+    EXPECT_TRUE(Scene{}.gdm.source.empty());
+
+    expectRejected(R"({"gdm": ""})", "gdm");
+    expectRejected(R"({"gdm": "weave", "gdm_rank": 0})", "gdm_rank");
+    expectRejected(R"({"gdm": "weave", "gdm_rank": 2.5})", "gdm_rank");
+    expectRejected(R"({"gdm": "weave", "gdm_rank": "all"})", "gdm_rank");
+    expectRejected(R"({"gdm": "weave", "gdm_technique": "exact"})", "gdm_technique");
+    expectRejected(R"({"gdm": "weave", "shell_thickness": -1})", "shell_thickness");
+    // The outputs belong to their renderer.
+    expectRejected(R"({"gdm": "weave", "output": "uv"})", "relief output");
+    expectRejected(R"({"output": "mask"})", "GDM output");
+    expectRejected(R"({"gdm_technique": "march"})", "give a gdm");
+}
+
 TEST(Scene, MissingFilesAreIoErrors) {
     try {
         parseScene(json::parse(R"({"depth_map": "no-such-depth.png"})"), "dir/scene.json");

@@ -91,6 +91,11 @@ struct GdmSvd {
 // number of threads.
 GdmSvd compressGdm(const Gdm& gdm, int rank = 8, GdmLayout layout = GdmLayout::XyPhiByThetaZ);
 
+// The first `rank` terms of `svd`: the best rank-`rank` approximation of the same matrix (Eckart-Young: the
+// terms are in descending order of sigma), without compressing again. The exit tolerance is kept. Throws
+// Error(InvalidInput) naming both ranks when rank < 1 or rank > svd.rank.
+GdmSvd truncateGdmSvd(const GdmSvd& svd, int rank);
+
 // The reconstructed value sum_i W_i E_i at (i, j, k, t, s), in the substituted form: finite, a boundary
 // exit reads as (about) the boundary distance. Indices must be in range (STRATA_CHECK).
 float reconstruct(const GdmSvd& svd, int i, int j, int k, int t, int s);

@@ -21,6 +21,14 @@
 //   cylinder  radius 0.5, z in [-0.5, 0.5], with caps: side u around +z from +x and v = z + 0.5 (4n
 //             segments around, n along z); caps are fans with planar uvs (top: u = x + 0.5, v = y + 0.5;
 //             bottom: u = x + 0.5, v = 0.5 - y, so both read upright from outside).
+//   vase      open at both ends (no caps: the inside shows), a surface of revolution about +z, z in [-0.5,
+//             0.5], radius r(t) = 0.22 + 0.16 sin(pi t) + 0.12 t^3 at t = z + 0.5 (a belly and a flared
+//             neck): u around +z from +x, v = the profile's arc length from the bottom rim over the mean
+//             circumference 2 pi mean(r) (2.21), so that a uv square is about square in world units (v in [0,
+//             0.47]); radius at most 0.398; 4n segments around, 2n along.
+//   patch     an open curved patch: a cylindrical arc of radius 0.6 about the y axis over 120 degrees (x in
+//             [-0.52, 0.52], top at z = 0, its rims at z = -0.3), 1 wide in y; uv in world units, u = arc
+//             length from the -x rim (in [0, 1.257]), v = y + 0.5; a 2n x 2n grid.
 //   plane     the square [-1, 1]^2 in z = 0 facing +z, uv = ((x + 1) / 2, (y + 1) / 2), an n x n grid.
 //   quad      exactly the unit quad of CONVENTIONS §7: x, y in [0, 1], z = 0, uv = (x, y), T = +x, B = +y,
 //             N = +z, four vertices (0,0), (1,0), (1,1), (0,1) and two triangles {0,1,2}, {0,2,3}. Ignores
@@ -35,13 +43,14 @@
 namespace strata {
 
 struct BuiltinMeshParams {
-    // Segments per patch edge (teapot), per quarter turn (sphere, torus, cylinder) or per edge (cube
-    // faces, plane). Range [1, 256]; default 16: the teapot is then 32 * 17^2 = 9248 vertices and 16256
-    // triangles, smooth in silhouette at 1280x720. The quad ignores it.
+    // Segments per patch edge (teapot), per quarter turn (sphere, torus, cylinder, vase), per edge (cube
+    // faces, plane) or per half edge (patch). Range [1, 256]; default 16: the teapot is then 32 * 17^2 = 9248
+    // vertices and 16256 triangles, smooth in silhouette at 1280x720. The quad ignores it.
     int tessellation = 16;
 };
 
-// The names makeBuiltinMesh accepts, in a fixed order: teapot, cube, sphere, torus, cylinder, plane, quad.
+// The names makeBuiltinMesh accepts, in a fixed order: teapot, cube, sphere, torus, cylinder, vase, patch,
+// plane, quad.
 std::vector<std::string> builtinMeshList();
 
 // Builds a built-in mesh (see the list above); Mesh::name is the name.

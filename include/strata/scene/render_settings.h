@@ -32,13 +32,23 @@ inline constexpr Technique kAllTechniques[] = {Technique::Texture,  Technique::N
                                                Technique::Relief,   Technique::MaxMip, Technique::Cone,
                                                Technique::DualDepth};
 
-// What a pixel of the picture holds (CONVENTIONS §7 for uv, shadow and depth).
+// What a pixel of the picture holds (CONVENTIONS §7 for uv, shadow and depth; §8 for a GDM render's uvw,
+// shadow and mask). uv and depth are relief outputs, uvw and mask GDM outputs (GdmSettings); shaded and
+// shadow are both's.
 enum class RenderOutput {
     Shaded,  // RGB, sRGB-encoded colour in [0, 1]
     Uv,      // RGB = (u, v, hit) of the first hit, u, v in [0, 1) (modulo 1); (0, 0, 0) where nothing is hit
     Shadow,  // gray, 1 where the first hit is lit by the light, 0 where it is shadowed or nothing is hit
     Depth,   // gray, d of the first hit, 0 where nothing is hit
+    Uvw,     // GDM: RGBA = (u, v, w, 1) of the first hit, u, v modulo 1; (0, 0, 0, 0) where nothing is hit
+    Mask,    // GDM: gray, 1 on a hit, 0 elsewhere
 };
+
+// The outputs of each renderer, in the order above.
+inline constexpr RenderOutput kReliefOutputs[] = {RenderOutput::Shaded, RenderOutput::Uv,
+                                                  RenderOutput::Shadow, RenderOutput::Depth};
+inline constexpr RenderOutput kGdmOutputs[] = {RenderOutput::Shaded, RenderOutput::Uvw, RenderOutput::Shadow,
+                                               RenderOutput::Mask};
 
 // How the AO map follows a render depth scale that differs from the one it was baked at.
 enum class AoRescale {
@@ -65,6 +75,30 @@ struct ReliefSettings {
     AoRescale aoRescale = AoRescale::Exact;
 };
 
+// How a GDM render finds a prism's hit along its segment T_in -> T_out (docs/gdm.md; strata::gl's
+// GdmRenderer draws them):
+enum class GdmTechnique {
+    Gdm,     // the paper's (Wang et al. 2004, Sec. 3.2): one GDM lookup d(T_in, V), a hit if d < dt. Default.
+    Refine,  // the lookup, then exact steps against the asset's volumes near it (beyond the paper)
+    March,   // no GDM: the occupancy volume stepped every voxel (the paper's slice-based baseline)
+};
+
+// A GDM render instead of a relief one (Wang et al. 2004, "Generalized Displacement Maps"): the
+// mesostructure drawn in the prism shell of the scene's mesh (CONVENTIONS §8). The tiling is
+// ReliefSettings::tiling; the lighting and the picture are the scene's.
+struct GdmSettings {
+    // Empty: no GDM, the scene is a relief render. Else a GDM asset directory (`strata gdm bake`) or a
+    // built-in mesostructure name (mesostructureList()), baked on the fly at `strata gdm bake`'s defaults.
+    std::string source;
+    GdmTechnique technique = GdmTechnique::Gdm;
+    // The GDM the lookups read: 0 = the asset's SVD at its stored rank; K >= 1 = its first K terms (K at most
+    // the stored rank); kGdmRankRaw = the raw GDM (an asset baked with --keep-raw; a built-in has it).
+    int rank = 0;
+    // T, the shell's thickness in world units (> 0). nullopt: H times the world length of one tile (§8).
+    std::optional<double> shellThickness;
+};
+inline constexpr int kGdmRankRaw = -1;
+
 // Blinn-Phong with one point light (paper appendix: ambient, diffuse, specular, shininess).
 struct Lighting {
     glm::dvec3 lightPosition{2.0, -2.0, 3.0};  // world units
@@ -88,10 +122,14 @@ struct PictureSettings {
 const char* toString(Technique technique);
 const char* toString(RenderOutput output);
 const char* toString(AoRescale rescale);
+const char* toString(GdmTechnique technique);
 // Parse the names above; throw Error(InvalidInput) listing the valid names (callers add the key or flag).
 Technique parseTechnique(const std::string& text);
 RenderOutput parseRenderOutput(const std::string& text);
 AoRescale parseAoRescale(const std::string& text);
+GdmTechnique parseGdmTechnique(const std::string& text);
+// "raw" -> kGdmRankRaw, "K" -> K (an integer >= 1); throws Error(InvalidInput) otherwise.
+int parseGdmRank(const std::string& text);
 
 // The linear step count for a view ray at |cos theta| = cosTheta (see ReliefSettings::linearSteps).
 // The shaders compute the same (shaders/shared/relief_search.h is the GLSL).
@@ -101,5 +139,8 @@ int adaptiveLinearSteps(int linearSteps, double cosTheta);
 void validate(const ReliefSettings& settings);
 void validate(const Lighting& lighting);
 void validate(const PictureSettings& picture);
+// Also checks that picture.output is one of the renderer's (kReliefOutputs without a GDM, kGdmOutputs with
+// one).
+void validate(const GdmSettings& gdm, const PictureSettings& picture);
 
 }  // namespace strata

@@ -14,8 +14,9 @@
 // value out of range throws Error(InvalidInput) "<file>: <key>: <what is wrong>"; a missing file throws
 // Error(Io).
 //
-// Meshes ("mesh"): a built-in name (builtinMeshList(): teapot, cube, sphere, torus, cylinder, plane, quad) or
-// a mesh file (.obj, .gltf, .glb). A name is a built-in unless a file of that name exists. Materials
+// Meshes ("mesh"): a built-in name (builtinMeshList(): teapot, cube, sphere, torus, cylinder, vase, patch,
+// plane, quad) or a mesh file (.obj, .gltf, .glb). A name is a built-in unless a file of that name exists.
+// Materials
 // ("material"): in this order,
 //   - an existing path: a material JSON (composed on load, docs/material.md), a texture set directory or its
 //     strata.json (docs/texture-sets.md), or a dual-depth texture's directory (strata/relief/dual_depth.h:
@@ -26,6 +27,9 @@
 // "depth_map" (a depth image, d in [0, 1], 0 = top; CONVENTIONS §2) replaces the material: normals derived at
 // the render's depth scale, no colour (white), no AO. This is the verification scene's input (CONVENTIONS
 // §7). Relative paths are relative to the scene file.
+// "gdm" (an asset directory, or a built-in mesostructure name) makes the scene a GDM render (GdmSettings):
+// the mesostructure in the mesh's prism shell instead of the material; "gdm_technique", "gdm_rank" (an
+// integer or "raw") and "shell_thickness" go with it, and "output" is then shaded, uvw, shadow or mask.
 #pragma once
 
 #include "strata/mesh/mesh.h"
@@ -64,6 +68,7 @@ struct Scene {
     MetaPath meta = MetaPath::Baked;  // a layered material's path (a texture set or pattern has no layers)
     std::optional<Camera> camera;     // nullopt: framed automatically from the mesh bounds (frameCamera)
     ReliefSettings relief;
+    GdmSettings gdm;  // a GDM render instead of a relief one when gdm.source is set
     Lighting lighting;
     PictureSettings picture;
 };

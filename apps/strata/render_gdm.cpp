@@ -1,0 +1,78 @@
+// `strata render` of a GDM scene (scene.gdm, docs/gdm.md): the scene's GDM in the prism shell of its mesh,
+// drawn by strata::gl's GdmRenderer.
+#include "cli_common.h"
+#include "render_common.h"
+
+#include "strata/core/error.h"
+#include "strata/gdm/prism_shell.h"
+#include "strata/gdm/scene_gdm.h"
+#include "strata/gl/context.h"
+#include "strata/gl/gdm_picture.h"
+#include "strata/gl/gdm_renderer.h"
+#include "strata/mesh/mesh.h"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace strata::cli {
+
+std::vector<RenderedScene> renderGdmScene(const Scene& scene, const std::vector<GdmTechnique>& techniques) {
+    const auto start = std::chrono::steady_clock::now();
+    const auto context = gl::HeadlessContext::create();
+
+    progress("mesh " + scene.mesh);
+    const Mesh mesh = loadSceneMesh(scene);
+    const SceneGdm gdm = loadSceneGdm(scene, [](const std::string& m) { progress(m); });
+
+    PrismShellOptions shell;
+    shell.height = gdm.asset.svd.height;
+    shell.tiling = glm::dvec2(scene.relief.tiling);
+    shell.thickness = scene.gdm.shellThickness;
+    const PrismShell prisms = buildPrismShell(mesh, shell);
+
+    gl::GdmRenderer renderer;
+    if (gdm.raw)
+        renderer.setGdm(*gdm.asset.raw);
+    else
+        renderer.setGdm(gdm.svd);
+    renderer.setMesh(mesh, shell);
+    renderer.setVolumes(gdm.asset.occupancy, gdm.asset.albedo);
+
+    // Framed on the shell's bounds, which hold everything the GDM can draw.
+    Bounds bounds = meshBounds(mesh);
+    const auto grow = glm::vec3(float(prisms.thickness));
+    bounds.min -= grow;
+    bounds.max += grow;
+    const Camera camera = scene.camera.value_or(
+        frameCamera(bounds, double(scene.picture.width) / double(scene.picture.height)));
+
+    std::vector<RenderedScene> results;
+    const std::vector<GdmTechnique> list = techniques.empty() ? std::vector{scene.gdm.technique} : techniques;
+    for (GdmTechnique technique : list) {
+        progress(std::string("rendering (") + toString(technique) + ")");
+        RenderedScene result;
+        result.image = gl::renderGdmPicture(renderer, camera, scene.lighting, scene.picture, technique);
+        std::ostringstream summary;
+        summary << mesh.name << ", GDM " << gdm.description << ", " << toString(technique) << ", tiling "
+                << formatNumber(scene.relief.tiling) << ", T = " << formatNumber(prisms.thickness) << ", "
+                << scene.picture.width << "x" << scene.picture.height;
+        if (scene.picture.output != RenderOutput::Shaded)
+            summary << ", " << toString(scene.picture.output);
+        else if (scene.picture.samples > 1)
+            summary << ", " << scene.picture.samples << " samples (supersampled)";
+        result.summary = summary.str();
+        results.push_back(std::move(result));
+    }
+    std::vector<std::filesystem::path> inputs = gdm.inputs;
+    if (std::filesystem::exists(scene.mesh)) inputs.emplace_back(scene.mesh);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    for (RenderedScene& result : results) {
+        result.inputs = inputs;
+        result.summary +=
+            ", " + context->rendererName() + ", " + formatNumber(std::round(seconds * 10) / 10) + " s";
+    }
+    return results;
+}
+
+}  // namespace strata::cli

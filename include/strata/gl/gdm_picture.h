@@ -1,0 +1,24 @@
+// A GDM render's picture (Scene::gdm): what `strata render --gdm` writes and strata-view shows, drawn by a
+// GdmRenderer that holds the scene's GDM, mesh and volumes. The picture follows PictureSettings as a relief
+// render's does (render_settings.h): shaded is sRGB colour supersampled on a k x k grid (k = round(sqrt(
+// samples)), box-filtered in linear colour) over the background; uvw, shadow and mask are CONVENTIONS §8's
+// values, one sample per pixel.
+#pragma once
+
+#include "strata/gl/gdm_renderer.h"
+#include "strata/image/image.h"
+#include "strata/scene/camera.h"
+#include "strata/scene/render_settings.h"
+
+namespace strata::gl {
+
+// The renderer's technique for a scene's (the same three, by name).
+GdmTechnique toGlTechnique(strata::GdmTechnique technique);
+
+// Throws Error(InvalidInput) for an output that is not a GDM one (kGdmOutputs), and as GdmRenderer's render
+// and renderShaded (the volumes must be set for shaded and for refine and march).
+// Layout: shaded 3 channels sRGB; uvw 4 channels; shadow and mask 1 channel.
+Image renderGdmPicture(GdmRenderer& renderer, const Camera& camera, const Lighting& lighting,
+                       const PictureSettings& picture, strata::GdmTechnique technique);
+
+}  // namespace strata::gl

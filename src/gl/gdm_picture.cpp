@@ -1,0 +1,81 @@
+#include "strata/gl/gdm_picture.h"
+
+#include "strata/core/error.h"
+#include "strata/image/srgb.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <string>
+
+namespace strata::gl {
+
+GdmTechnique toGlTechnique(strata::GdmTechnique technique) {
+    switch (technique) {
+        case strata::GdmTechnique::Gdm:
+            return GdmTechnique::Gdm;
+        case strata::GdmTechnique::Refine:
+            return GdmTechnique::Refine;
+        case strata::GdmTechnique::March:
+            return GdmTechnique::March;
+    }
+    return GdmTechnique::Gdm;
+}
+
+namespace {
+
+// k of the k x k grid, limited so that the supersampled picture fits the driver's renderbuffers (as the
+// relief renderer's).
+int supersamplingFactor(const PictureSettings& picture) {
+    int factor = std::max(1, int(std::lround(std::sqrt(double(picture.samples)))));
+    GLint maxSize = 4096;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxSize);
+    while (factor > 1 && std::max(picture.width, picture.height) * factor > maxSize) --factor;
+    return factor;
+}
+
+}  // namespace
+
+Image renderGdmPicture(GdmRenderer& renderer, const Camera& camera, const Lighting& lighting,
+                       const PictureSettings& picture, strata::GdmTechnique technique) {
+    validate(picture);
+    if (std::find(std::begin(kGdmOutputs), std::end(kGdmOutputs), picture.output) == std::end(kGdmOutputs))
+        throw Error(ErrorKind::InvalidInput,
+                    std::string("GDM picture: output ") + toString(picture.output) +
+                        " is a relief output (a GDM render draws shaded, uvw, shadow "
+                        "or mask)");
+    const GdmTechnique glTechnique = toGlTechnique(technique);
+    if (picture.output != RenderOutput::Shaded) {
+        GdmSceneImages images = renderer.render(camera, lighting.lightPosition, picture.width, picture.height,
+                                                GdmDirectionLookup::Nearest, glTechnique);
+        return picture.output == RenderOutput::Uvw      ? std::move(images.uvw)
+               : picture.output == RenderOutput::Shadow ? std::move(images.shadow)
+                                                        : std::move(images.mask);
+    }
+    const int factor = supersamplingFactor(picture);
+    const Image shaded =
+        renderer.renderShaded(camera, lighting.lightPosition, picture.width * factor, picture.height * factor,
+                              GdmDirectionLookup::Nearest, glTechnique);
+    // Linear colour with coverage in alpha: composited over the background in linear, then box-filtered.
+    glm::dvec3 background;
+    for (int c = 0; c < 3; ++c) background[c] = srgbToLinear(picture.background[c]);
+    const double weight = 1.0 / double(factor * factor);
+    Image out = Image::uninitialized(picture.width, picture.height, 3);
+    for (int y = 0; y < picture.height; ++y)
+        for (int x = 0; x < picture.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                double sum = 0.0;
+                for (int j = 0; j < factor; ++j)
+                    for (int i = 0; i < factor; ++i) {
+                        const int sx = x * factor + i, sy = y * factor + j;
+                        const double alpha = shaded.at(sx, sy, 3);
+                        sum += double(shaded.at(sx, sy, c)) + (1.0 - alpha) * background[c];
+                    }
+                out.at(x, y, c) = float(linearToSrgb(std::clamp(sum * weight, 0.0, 1.0)));
+            }
+    return out;
+}
+
+}  // namespace strata::gl

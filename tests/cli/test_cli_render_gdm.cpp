@@ -1,0 +1,143 @@
+// `strata render --gdm` end to end: on --mesh quad its debug outputs are the GDM verification scene's
+// (CONVENTIONS §8) and must be `strata gdm trace --gl`'s pictures exactly; shaded pictures on a mesh are
+// drawn over the background; the documented errors write nothing.
+#include "test_support.h"
+
+#include "strata/image/image_io.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+namespace strata {
+namespace {
+
+namespace fs = std::filesystem;
+using test::runCli;
+
+#define SKIP_WITHOUT_GL(result) \
+    if ((result).exitCode == 5) GTEST_SKIP() << "no OpenGL context: " << (result).output
+
+std::string quoted(const fs::path& path) {
+    return "\"" + path.string() + "\"";
+}
+
+// A tiny weave asset for the suite: 16 x 16 x 4 voxels, 8 x 16 directions, rank 8, with the raw GDM; and a
+// copy baked without it.
+class CliRenderGdm : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        dir = std::make_unique<test::ScratchDir>("cli-render-gdm");
+        for (const char* raw : {" --keep-raw", ""}) {
+            const std::string name = *raw ? "weave" : "noraw";
+            const auto bake = runCli("gdm bake --meso weave --size 16x16x4 --dirs 8x16" + std::string(raw) +
+                                     " -o " + quoted(*dir / name));
+            ASSERT_EQ(bake.exitCode, 0) << bake.output;
+        }
+    }
+    static void TearDownTestSuite() { dir.reset(); }
+    static std::unique_ptr<test::ScratchDir> dir;
+};
+std::unique_ptr<test::ScratchDir> CliRenderGdm::dir;
+
+// The verification scene's view, as `strata gdm trace` has it by default, at 64 x 48.
+const std::string kView =
+    " --eye 0.5,-0.6314,1.1314 --target 0.5,0.5,0 --fov 45 --light 0.5,-0.6,1.1 --size 64x48";
+
+TEST_F(CliRenderGdm, QuadOutputsAreTheVerificationScenesOfGdmTrace) {
+    const fs::path weave = *dir / "weave";
+    // --gdm-rank raw is trace's --gdm raw; the default rank is the stored SVD, trace's --gdm svd.
+    for (const auto& [rank, gdm] : {std::pair{"", "svd"}, std::pair{" --gdm-rank raw", "raw"}}) {
+        for (const char* output : {"uvw", "shadow", "mask"}) {
+            SCOPED_TRACE(std::string(output) + " " + gdm);
+            const fs::path a = *dir / (std::string("render_") + output + "_" + gdm + ".png");
+            const fs::path b = *dir / (std::string("trace_") + output + "_" + gdm + ".png");
+            const auto render = runCli("render --gdm " + quoted(weave) + rank + " --mesh quad --output " +
+                                       output + kView + " -o " + quoted(a));
+            SKIP_WITHOUT_GL(render);
+            ASSERT_EQ(render.exitCode, 0) << render.output;
+            const auto trace = runCli("gdm trace " + quoted(weave) + " --gl --gdm " + gdm + " --output " +
+                                      output + kView + " -o " + quoted(b));
+            ASSERT_EQ(trace.exitCode, 0) << trace.output;
+            // §8: 16-bit PNGs, the same values to the bit (the same renderer on the same shell).
+            EXPECT_EQ(readImageInfo(a).bitDepth, 16);
+            const Image x = readImage(a), y = readImage(b);
+            ASSERT_EQ(x.channels(), y.channels());
+            EXPECT_EQ(test::maxAbsDiff(x, y), 0.0);
+            if (std::string(output) == "mask") {
+                double hits = 0.0;
+                for (int row = 0; row < 48; ++row)
+                    for (int col = 0; col < 64; ++col) hits += double(x.at(col, row));
+                EXPECT_GT(hits, 64 * 48 / 5);  // the weave covers about half of the picture
+            }
+        }
+    }
+}
+
+TEST_F(CliRenderGdm, ShadedMeshIsDrawnOverTheBackground) {
+    const fs::path out = *dir / "sphere.png";
+    const auto render =
+        runCli("render --gdm " + quoted(*dir / "weave") +
+               " --mesh sphere --tessellation 4 --tiling 2 --size 64x48 --samples 4 -o " + quoted(out));
+    SKIP_WITHOUT_GL(render);
+    ASSERT_EQ(render.exitCode, 0) << render.output;
+    EXPECT_NE(render.output.find("GDM"), std::string::npos) << render.output;
+    EXPECT_EQ(readImageInfo(out).bitDepth, 8);
+    const Image picture = readImage(out);
+    // The corner is the default background (0.16, 0.17, 0.19), to one 8-bit step (the dither's); the centre
+    // is the weave.
+    EXPECT_NEAR(picture.at(0, 0, 0), 0.16f, 1.0f / 255.0f + 1e-6f);
+    EXPECT_NEAR(picture.at(0, 0, 2), 0.19f, 1.0f / 255.0f + 1e-6f);
+    double differs = 0.0;
+    for (int y = 16; y < 32; ++y)
+        for (int x = 24; x < 40; ++x) differs += std::abs(picture.at(x, y, 0) - 0.16f) > 0.02f ? 1.0 : 0.0;
+    EXPECT_GT(differs, 16 * 16 * 0.5);
+}
+
+TEST_F(CliRenderGdm, ErrorsHaveTheirCodesAndWriteNothing) {
+    const fs::path out = *dir / "error.png";
+    const std::string small = " --mesh quad --size 16x16 -o " + quoted(out);
+    const std::string weave = " --gdm " + quoted(*dir / "weave");
+    struct Case {
+        std::string args;
+        int code;
+        std::string says;
+    };
+    const Case cases[] = {
+        // Usage (1): a malformed rank, a material or a depth map with a GDM, an unknown technique.
+        {weave + " --gdm-rank two" + small, 1, "--gdm-rank"},
+        {weave + " --material stone-bricks" + small, 1, "--material"},
+        {weave + " --gdm-technique exact" + small, 1, "--gdm-technique"},
+        // Invalid input (3): neither an asset nor a built-in, a rank above the stored one, raw without
+        // raw.f32,
+        // a relief output with a GDM, a GDM setting without one, a thickness <= 0.
+        {" --gdm no-such-meso" + small, 3, "no-such-meso"},
+        {weave + " --gdm-rank 9" + small, 3, "gdm_rank 9"},
+        {" --gdm " + quoted(*dir / "noraw") + " --gdm-rank raw" + small, 3, "raw"},
+        {weave + " --output uv" + small, 3, "output"},
+        {" --gdm-technique refine" + small, 3, "give a gdm"},
+        {weave + " --shell-thickness 0" + small, 3, "shell_thickness"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.args);
+        const auto result = runCli("render" + c.args);
+        SKIP_WITHOUT_GL(result);
+        EXPECT_EQ(result.exitCode, c.code) << result.output;
+        EXPECT_NE(result.output.find(c.says), std::string::npos) << result.output;
+        EXPECT_FALSE(fs::exists(out));
+    }
+    // A directory that is not an asset (2), and an output that is one of the asset's files (2): untouched.
+    const auto notAsset = runCli("render --gdm " + quoted(dir->path()) + small);
+    EXPECT_EQ(notAsset.exitCode, 2) << notAsset.output;
+    const fs::path sidecar = *dir / "weave" / "gdm.json";
+    const auto before = fs::file_size(sidecar);
+    const auto overwrite = runCli("render" + weave + " --mesh quad --size 16x16 -o " + quoted(sidecar));
+    SKIP_WITHOUT_GL(overwrite);
+    EXPECT_EQ(overwrite.exitCode, 2) << overwrite.output;
+    EXPECT_EQ(fs::file_size(sidecar), before);
+}
+
+}  // namespace
+}  // namespace strata
