@@ -377,7 +377,7 @@ void skipCrossed(const RTCFilterFunctionNArguments* args) {
 // the shell: an entered solid face, or a boundary point entered inside the solid. `anySolidFace`: stop at a
 // solid face met either way (the shadow's blockers).
 Crossing firstHit(const WarpedScene& warped, const glm::dvec3& origin, const glm::dvec3& direction,
-                  double tFar, bool anySolidFace) {
+                  double tFar, bool anySolidFace, bool throughBase = true) {
     Crossing result;
     SkipContext crossed;
     rtcInitIntersectContext(&crossed.context);
@@ -401,7 +401,10 @@ Crossing firstHit(const WarpedScene& warped, const glm::dvec3& origin, const glm
             hit = entering || anySolidFace;
             if (!entering) result.exitFace = true;
         } else if (entering) {
-            if (face.kind == FaceKind::Base) result.fromBelow = true;
+            if (face.kind == FaceKind::Base) {
+                result.fromBelow = true;
+                if (!throughBase) return result;
+            }
             glm::dvec3 inside = texture - kEntryNudge * glm::dvec3(face.textureNormal);
             inside.x -= std::floor(inside.x);
             inside.y -= std::floor(inside.y);
@@ -578,7 +581,8 @@ GdmSceneImages renderGdmMeshReference(const SolidMesh& solid, const Mesh& mesh,
         for (int i = 0; i < width; ++i) {
             const glm::dvec3 direction = pixelRayDirection(camera, width, height, i + 0.5, j + 0.5);
             const Crossing hit =
-                firstHit(warped, camera.eye, direction, std::numeric_limits<double>::infinity(), false);
+                firstHit(warped, camera.eye, direction, std::numeric_limits<double>::infinity(), false,
+                         options.throughBase);
             if (hit.exitFace) exitFaces.fetch_add(1, std::memory_order_relaxed);
             if (!hit.found) continue;
             if (hit.fromBelow) fromBelow.fetch_add(1, std::memory_order_relaxed);

@@ -19,12 +19,19 @@
 //   - on the shell's boundary, where the ray enters the shell's volume at a point inside the solid: it hits
 //     there, on the cut face, whose normal is the boundary's outward normal (§8's rule for the box, on any
 //     shell). The boundary is every prism's top, every prism's base and the fins that only one prism has
-//     (an open mesh's rim); fins shared by two prisms are inside the shell and are not faces. The base
-//     surface itself is not solid (§8): a ray that meets no solid passes through it, into the mesh and out
-//     of it, and may enter the shell again, from below through a base (the GL renderer never draws such a
-//     ray's hit: it enters prisms through their tops and fins only).
+//     (an open mesh's rim). Fins shared by two prisms are inside the shell and are not faces, except at a
+//     seam: where the two prisms' tile coordinates do not continue across the fin (they differ by other
+//     than a whole tile, e.g. a planar-mapped cap against a cylinder's side), the solid does not continue
+//     either, and each prism's side of the fin is a boundary of its own. The base surface itself is not
+//     solid (§8): a ray that meets no solid passes through it, into the mesh and out of it, and may enter
+//     the shell again, from below through a base (the GL renderer never draws a hit through a base: it
+//     enters prisms through their tops and fins only; GdmMeshReferenceOptions::throughBase).
+//   A face of a neighbouring tile's copy that lies in a prism's side, with its solid outside the prism, is
+//   not kept (it belongs to the next prism): a ray that leaves a prism through the solid's section does not
+//   hit there. (§8's flat reference, which traces the whole periodic solid, may: docs/gdm.md.)
 // The inside test at a boundary point is the bake's winding-number test (gdm_bake.h) at the point's texture
-// position, 1e-7 tile widths inside the prism.
+// position, 1e-7 tile widths inside the prism. A ray walks its crossings in order; a face it has crossed is
+// not reported again, so that faces at the same distance (both sides of a seam) are each met.
 //
 // How exact. The curved faces are cut into flat triangles, each solid triangle first clipped to each prism
 // volume it crosses (in texture space, exactly: the clip planes are b_i = 0, z = 0 and z = H), then split at
@@ -76,6 +83,10 @@ struct GdmMeshReferenceOptions {
     // The largest distance allowed between a flat triangle and the curved face it stands for, as a fraction
     // of the shell's thickness T. (0, 1], default 1e-3 (1/125 of a voxel at 8 voxels over H).
     double chordTolerance = 1e-3;
+    // true: the exact answer above. false: a camera ray ends, as a miss, where it enters the shell through a
+    // base (from inside the mesh): what the GL renderer draws, which enters prisms through their tops and
+    // fins only; for measuring that difference apart from the others. Shadow rays keep the exact rule.
+    bool throughBase = true;
 };
 
 // What the reference built, for tests and docs.
