@@ -40,11 +40,11 @@
 //     Q(e) = 2 (dz / H) T sum_i (grad b_i . (du, dv)) N_i,
 // a linear interpolant on an edge is within |Q| / 8 of the quadratic and on a triangle within max |Q| / 6
 // over its edges (the interpolation error of a quadratic is -1/2 sum_{i<j} b_i b_j Q(e_ij)); so an edge is
-// split while |Q(e)| / 6 > chordTolerance T. The decision is the edge's own (its two end points), so
-// neighbouring triangles split a shared edge alike and the subdivision has no T-junctions. Boundary fins
-// are cut the same way, and tops and bases are exact. The texture position of a hit is interpolated
-// linearly on its flat triangle (within the same tolerance). docs/gdm.md gives the tolerance's measured
-// effect.
+// split while |Q(e)| / 6 > chordTolerance T (and longer than 1e-5 tile widths). The decision is the edge's
+// own (its two end points), so neighbouring triangles split a shared edge alike and the subdivision has no
+// T-junctions. Boundary fins are cut the same way, and tops and bases are exact. The texture position of a
+// hit is interpolated linearly on its flat triangle (within the same tolerance). docs/gdm.md gives the
+// tolerance's measured effect.
 //
 // Outputs (GdmSceneImages, strata/gdm/gdm_trace.h), per pixel centre ray (pixelRayDirection), no
 // antialiasing:
