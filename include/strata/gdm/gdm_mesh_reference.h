@@ -24,8 +24,9 @@
 //     than a whole tile, e.g. a planar-mapped cap against a cylinder's side), the solid does not continue
 //     either, and each prism's side of the fin is a boundary of its own. The base surface itself is not
 //     solid (§8): a ray that meets no solid passes through it, into the mesh and out of it, and may enter
-//     the shell again, from below through a base (the GL renderer never draws a hit through a base: it
-//     enters prisms through their tops and fins only; GdmMeshReferenceOptions::throughBase).
+//     the shell again, from below through a base (the GL renderer never starts a ray at a base: it enters
+//     prisms through their tops and fins only, so it shows that far side only where a far prism's inner fin
+//     faces the ray; GdmMeshReferenceOptions::throughBase).
 //   A face of a neighbouring tile's copy that lies in a prism's side, with its solid outside the prism, is
 //   not kept (it belongs to the next prism): a ray that leaves a prism through the solid's section does not
 //   hit there. (§8's flat reference, which traces the whole periodic solid, may: docs/gdm.md.)
