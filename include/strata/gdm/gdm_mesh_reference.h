@@ -103,7 +103,7 @@ struct GdmMeshReferenceStats {
     std::size_t exitFaceCrossings = 0;  // camera rays that met a solid face from inside before any hit
                                         // (rays through a crack, or float rounding at an edge): skipped
     std::size_t hitsFromBelow = 0;      // hits on rays that entered the shell through a base, from inside the
-                                        // mesh (the GL renderer draws none of them)
+                                        // mesh
 };
 
 // The exact reference (above). Throws Error(InvalidInput) for a camera validateCamera refuses, a picture
