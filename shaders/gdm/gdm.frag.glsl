@@ -57,6 +57,7 @@ uniform int uTechnique;    // 0 gdm: the paper's lookup; 1 refine (see main); 2 
 uniform bool uHasDistance; // the signed distance volume is bound: refine traces it, normals are its gradient
 uniform bool uJacobianLight; // the light direction in texture space: the prism's inverse Jacobian of the world one
 uniform ivec3 uVoxels;     // Nx, Ny, Nz
+uniform ivec3 uDistanceVoxels; // the signed distance volume's grid (the GDM's, or finer)
 uniform ivec2 uDirections; // Ntheta, Nphi
 uniform float uHeight;     // H
 uniform int uRank;         // k; 0: the raw GDM
@@ -159,18 +160,21 @@ int voxelIndex(int i, int j, int k) {
     return (k * uVoxels.y + j) * uVoxels.x + i;
 }
 
-// The 8 voxels and weights of the trilinear stencil at a texture point (between voxel centres, wrapping in
-// u, v, clamped in w).
-void trilinearStencil(vec3 point, out int index[8], out float weight[8]) {
-    float fx = point.x * float(uVoxels.x) - 0.5;
-    float fy = point.y * float(uVoxels.y) - 0.5;
-    float fz = clamp(point.z / uHeight * float(uVoxels.z) - 0.5, 0.0, float(uVoxels.z - 1));
+// The 8 voxels and weights of the trilinear stencil at a texture point in a grid of `size` voxels (between
+// voxel centres, wrapping in u, v, clamped in w).
+void trilinearStencil(vec3 point, ivec3 size, out int index[8], out float weight[8]) {
+    float fx = point.x * float(size.x) - 0.5;
+    float fy = point.y * float(size.y) - 0.5;
+    float fz = clamp(point.z / uHeight * float(size.z) - 0.5, 0.0, float(size.z - 1));
     vec3 base = floor(vec3(fx, fy, fz));
     vec3 a = vec3(fx, fy, fz) - base;
     for (int corner = 0; corner < 8; ++corner) {
         int dx = corner & 1, dy = (corner >> 1) & 1, dz = corner >> 2;
         weight[corner] = (dx == 1 ? a.x : 1.0 - a.x) * (dy == 1 ? a.y : 1.0 - a.y) * (dz == 1 ? a.z : 1.0 - a.z);
-        index[corner] = voxelIndex(int(base.x) + dx, int(base.y) + dy, int(base.z) + dz);
+        int i = ((int(base.x) + dx) % size.x + size.x) % size.x;
+        int j = ((int(base.y) + dy) % size.y + size.y) % size.y;
+        int k = min(int(base.z) + dz, size.z - 1);
+        index[corner] = (k * size.y + j) * size.x + i;
     }
 }
 
@@ -178,7 +182,7 @@ void trilinearStencil(vec3 point, out int index[8], out float weight[8]) {
 float occupancyAt(vec3 point) {
     int index[8];
     float weight[8];
-    trilinearStencil(point, index, weight);
+    trilinearStencil(point, uVoxels, index, weight);
     float sum = 0.0;
     for (int corner = 0; corner < 8; ++corner) sum += weight[corner] * occupancy[index[corner]];
     return sum;
@@ -188,7 +192,7 @@ float occupancyAt(vec3 point) {
 float distanceAt(vec3 point) {
     int index[8];
     float weight[8];
-    trilinearStencil(point, index, weight);
+    trilinearStencil(point, uDistanceVoxels, index, weight);
     float sum = 0.0;
     for (int corner = 0; corner < 8; ++corner) sum += weight[corner] * distanceValues[index[corner]];
     return sum;

@@ -79,6 +79,7 @@ struct GdmRenderer::Impl {
     bool hasOccupancy = false, hasAlbedo = false;
     Buffer signedDistance;  // per voxel, for refine and the normals
     bool hasDistance = false;
+    glm::ivec3 distanceVoxels{1};
     GdmLightFrame lightFrame = GdmLightFrame::World;
     // The mesh's shell: entry faces (tops and fins) and base faces to draw, every prism's 8 triangles for
     // the exit search, and the shell's bounds.
@@ -144,6 +145,8 @@ struct GdmRenderer::Impl {
         glUniform1i(program.uniformLocation("uOutput"), output);
         glUniform1i(program.uniformLocation("uHasAlbedo"), hasAlbedo ? 1 : 0);
         glUniform1i(program.uniformLocation("uHasDistance"), hasDistance ? 1 : 0);
+        glUniform3i(program.uniformLocation("uDistanceVoxels"), distanceVoxels.x, distanceVoxels.y,
+                    distanceVoxels.z);
         glUniform1i(program.uniformLocation("uJacobianLight"), lightFrame == GdmLightFrame::Jacobian ? 1 : 0);
         glUniform1i(program.uniformLocation("uTechnique"), technique == GdmTechnique::Gdm      ? 0
                                                            : technique == GdmTechnique::Refine ? 1
@@ -351,14 +354,23 @@ void GdmRenderer::setVolumes(const std::vector<std::uint8_t>& occupancy,
 void GdmRenderer::setDistance(const std::vector<float>& distance) {
     if (!mImpl->dims)
         throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM before its distance volume");
-    const std::size_t voxels = mImpl->dims->voxelCount();
+    setDistance(distance, glm::ivec3(mImpl->dims->nx, mImpl->dims->ny, mImpl->dims->nz));
+}
+
+void GdmRenderer::setDistance(const std::vector<float>& distance, glm::ivec3 size) {
+    if (!mImpl->dims)
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM before its distance volume");
+    if (size.x < 1 || size.y < 1 || size.z < 1)
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: the distance volume's grid must be >= 1 voxel");
+    const std::size_t voxels = std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
     if (!distance.empty() && distance.size() != voxels)
         throw Error(ErrorKind::InvalidInput, "GdmRenderer: the distance volume has " +
-                                                 std::to_string(distance.size()) + " voxels, the GDM " +
+                                                 std::to_string(distance.size()) + " voxels, its grid " +
                                                  std::to_string(voxels));
     mImpl->signedDistance.store(distance);
     checkGl("GdmRenderer: uploading the distance volume");
     mImpl->hasDistance = !distance.empty();
+    mImpl->distanceVoxels = size;
 }
 
 void GdmRenderer::setLightFrame(GdmLightFrame frame) {

@@ -60,9 +60,9 @@ enum class GdmTechnique {
              // traced as its hits are. After 96 steps (a ray grazing a surface) the GDM lookup from there
              // answers. Without the distance volume: the lookup, then the occupancy volume's 0.5 crossing
              // within two voxels of it, sampled every quarter voxel (linear between samples); misses stay.
-    March,  // no GDM: the occupancy volume sampled every voxel (H / Nz) from T_in to T_out, the first 0.5
-            // crossing (linear between samples). Its cost grows with the depth resolution: the baseline of
-            // the paper's comparison with slice-based rendering.
+    March,   // no GDM: the occupancy volume sampled every voxel (H / Nz) from T_in to T_out, the first 0.5
+             // crossing (linear between samples). Its cost grows with the depth resolution: the baseline of
+             // the paper's comparison with slice-based rendering.
 };
 
 // How the shadow lookup takes the direction to the light into texture space (issue 18, "Local shadows"):
@@ -113,6 +113,10 @@ public:
     // fastest) for the GDM set last; an empty one forgets it. Throws Error(InvalidInput) before setGdm or for
     // a size that is not the GDM's voxels. setGdm forgets it.
     void setDistance(const std::vector<float>& distance);
+    // The same on a grid of its own, `size` voxels (Nx, Ny, Nz >= 1; §8 sampling in the same tile and H),
+    // e.g. finer than the GDM's (bakeGdmDistance at those dims). Throws as above for a size that is not
+    // distance.size().
+    void setDistance(const std::vector<float>& distance, glm::ivec3 size);
     // The frame of the shadow lookup's light direction; World until set. Kept across setGdm and setMesh.
     void setLightFrame(GdmLightFrame frame);
 
