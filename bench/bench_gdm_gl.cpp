@@ -8,12 +8,18 @@
 // and the teapot at tiling 6 framed as `strata gdm trace --mesh` frames it (`teapot`), each with the rank-8
 // SVD and with the raw GDM (134 MB in a storage buffer). GPU memory of the GDM: rank 8 4.0 MiB of maps,
 // raw 128 MiB.
-// `technique`: the quad at 512 x 512 with each technique (gdm on the rank-8 SVD, refine, march) at depth
-// resolutions 16 and 32 (the weave baked at 64 x 64 x 32 as well): the paper's gdm / slice-based ratio
-// (60 vs 32 fps at 64 x 64 x 16, 57 vs 15 at 64 x 64 x 32) is the march / gdm time ratio here.
-// `accuracy`: each technique against the exact reference on the §8 quad at 45 degrees, 256 x 256, raw GDM;
-// counters only (the table in docs/gdm.md), times not meaningful.
+// `technique`: the quad at 512 x 512 with each technique (gdm on the rank-8 SVD; refine on the occupancy;
+// march; refine on the signed distance volume, bakeGdmDistance at the GDM's voxels) at depth resolutions 16
+// and 32 (the weave baked at 64 x 64 x 32 as well): the paper's gdm / slice-based ratio (60 vs 32 fps at
+// 64 x 64 x 16, 57 vs 15 at 64 x 64 x 32) is the march / gdm time ratio here, and refine's cost is its
+// time over gdm's.
+// `accuracy`: the accuracy table (docs/gdm.md): weave, chain and scales baked as `strata gdm bake --meso`
+// bakes them (64 x 64 x 16 x 16 x 32), views 5, 45 and 75 degrees from the normal at distance 1.6, each row
+// against the exact reference on the §8 quad at 256 x 256: gdm raw and rank 8, refine (distance volume)
+// with the raw GDM and rank 8, march, and refine with a distance volume at twice the voxels per axis.
+// Counters only, times not meaningful (they include the reference render).
 // Run: build/ci/bench/bench_gdm_gl --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+//      build/ci/bench/bench_gdm_gl --benchmark_filter=technique --benchmark_repetitions=3
 //      build/ci/bench/bench_gdm_gl --benchmark_filter=accuracy --benchmark_counters_tabular=true
 #include "strata/gdm/gdm_asset.h"
 #include "strata/gdm/gdm_bake.h"
@@ -89,16 +95,18 @@ void frame(benchmark::State& state) {
 }
 
 constexpr strata::gl::GdmTechnique kTechniques[] = {
-    strata::gl::GdmTechnique::Gdm, strata::gl::GdmTechnique::Refine, strata::gl::GdmTechnique::March};
-constexpr const char* kTechniqueNames[] = {"gdm", "refine", "march"};
+    strata::gl::GdmTechnique::Gdm, strata::gl::GdmTechnique::Refine, strata::gl::GdmTechnique::March,
+    strata::gl::GdmTechnique::Refine};
+constexpr const char* kTechniqueNames[] = {"gdm", "refine (occupancy)", "march", "refine (distance)"};
 
-// range(0): technique; range(1): depth resolution 16 or 32.
+// range(0): technique (3: refine on the distance volume); range(1): depth resolution 16 or 32.
 void technique(benchmark::State& state) {
     context().makeCurrent();
     const strata::Gdm& gdm = weave(int(state.range(1)));
     strata::gl::GdmRenderer renderer;
     renderer.setGdm(strata::compressGdm(gdm, 8));
     renderer.setVolumes(strata::gdmOccupancy(gdm), {});
+    if (state.range(0) == 3) renderer.setDistance(strata::bakeGdmDistance(weaveSolid(), gdm.dims));
     renderer.setMesh(strata::makeBuiltinMesh("quad"), {});
     const strata::gl::GdmTechnique which = kTechniques[state.range(0)];
     for (auto _ : state)
@@ -179,7 +187,7 @@ void accuracy(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(technique)->ArgsProduct({{0, 1, 2}, {16, 32}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(technique)->ArgsProduct({{0, 1, 2, 3}, {16, 32}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(accuracy)
     ->ArgsProduct({{0, 1, 2}, {5, 45, 75}, {0, 1, 2, 3, 4, 5}})
     ->Iterations(1)
