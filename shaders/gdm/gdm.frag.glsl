@@ -20,8 +20,13 @@
 //
 // Outputs (uOutput): 0 uvw: (u, v modulo 1, w, 1); 1 shadow: (lit, 0, 0, 1), lit iff the lookup towards the
 // light from one voxel back along V, leaving out the corners below half a voxel, is an exit (emulateGdm's
-// rule, with the object-space light direction as L_t, the paper's choice); 2 prism id + 1, no GDM (the crack
-// test of gdm_renderer.h); 3 shaded: (linear RGB, 1), shade() below, with that shadow.
+// rule, with the object-space light direction as L_t, the paper's choice, or with it mapped by the prism's
+// inverse Jacobian: textureLight); refine on the signed distance volume traces the shadow on it instead
+// (litByDistance); 2 prism id + 1, no GDM (the crack test of gdm_renderer.h); 3 shaded: (linear RGB, 1),
+// shade() below, with that shadow.
+//
+// Not in the paper: refine on the signed distance volume (uTechnique 1 with uHasDistance), sphere tracing
+// from T_in to T_out (traceDistance); see GdmTechnique::Refine.
 
 in VertexData {
     vec3 worldPosition;

@@ -100,8 +100,10 @@ public:
     void setMesh(const Mesh& mesh, const PrismShellOptions& shell);
 
     // Refine and March need the occupancy volume (setVolumes); Refine uses the distance volume instead
-    // where there is one (setDistance). The shadow is the GDM lookup's in every technique, towards the light
-    // in the frame of setLightFrame.
+    // where there is one (setDistance). The shadow is the GDM lookup's (towards the light in the frame of
+    // setLightFrame), except Refine's on the distance volume: lit iff the distance's gradient faces the light
+    // and sphere tracing from a quarter voxel off the surface towards it meets no zero crossing before it
+    // leaves the slab 0 <= w <= 1 (the GDM lookup from where it stops after 96 steps).
     GdmSceneImages render(const Camera& camera, glm::dvec3 light, int width, int height,
                           GdmDirectionLookup directions = GdmDirectionLookup::Nearest,
                           GdmTechnique technique = GdmTechnique::Gdm);
@@ -122,9 +124,9 @@ public:
 
     // A shaded picture: linear RGB and alpha 1 on a hit, all 0 elsewhere. The normal is the signed
     // distance's gradient where there is one (setDistance), else minus the occupancy's, at the hit (central
-    // differences one voxel apart), taken to world space by the mesh's
-    // interpolated tangent frame; the albedo is the nearest voxel's (0.7 grey without one); Blinn-Phong from
-    // the point light, with the local shadow of render(). Throws Error(InvalidInput) without the volumes.
+    // differences one voxel apart), taken to world space by the mesh's interpolated tangent frame; the albedo
+    // is the nearest voxel's (0.7 grey without one); Blinn-Phong from the point light, with the local shadow
+    // of render(). Throws Error(InvalidInput) without the occupancy volume (setVolumes).
     Image renderShaded(const Camera& camera, glm::dvec3 light, int width, int height,
                        GdmDirectionLookup directions = GdmDirectionLookup::Nearest,
                        GdmTechnique technique = GdmTechnique::Gdm);
