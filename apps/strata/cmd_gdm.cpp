@@ -8,6 +8,7 @@
 #include "strata/core/error.h"
 #include "strata/gdm/gdm_asset.h"
 #include "strata/gdm/gdm_bake.h"
+#include "strata/gdm/gdm_distance.h"
 #include "strata/gdm/gdm_svd.h"
 #include "strata/gdm/mesostructure.h"
 #include "strata/gdm/mesostructure_mesh.h"
@@ -132,7 +133,9 @@ void runGdmBake(const GdmBakeOptions& options) {
     asset.occupancy = gdmOccupancy(raw);
     asset.albedo = std::move(albedo);
     if (options.keepRaw) asset.raw = raw;
-    asset.solid = std::move(solid);  // for the exact reference (strata gdm trace --reference)
+    progress("signed distance volume");
+    asset.distance = bakeGdmDistance(solid, dims);  // for the GL renderer's refine technique
+    asset.solid = std::move(solid);                 // for the exact reference (strata gdm trace --reference)
     asset.source = source;
     std::ostringstream settings;
     settings << "--size " << options.size << " --dirs " << options.dirs << " --height "
@@ -143,7 +146,8 @@ void runGdmBake(const GdmBakeOptions& options) {
     asset.bake.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     asset.bake.date = utcNow();
     writeGdmAsset(options.output, asset, inputs);
-    std::cout << "wrote " << options.output.string() << ": gdm.json weights.f32 eigen.f32 occupancy.u8"
+    std::cout << "wrote " << options.output.string()
+              << ": gdm.json weights.f32 eigen.f32 occupancy.u8 distance.f32"
               << (asset.albedo.empty() ? "" : " albedo.rgb8") << (options.keepRaw ? " raw.f32" : "")
               << " solid.obj\n";
 }

@@ -191,8 +191,10 @@ void runGdmTrace(const GdmTraceOptions& options) {
         gl::GdmRenderer renderer;
         renderer.setGdm(gdm);
         renderer.setMesh(mesh ? *mesh : makeBuiltinMesh("quad"), shell);
-        if (output == TraceOutput::Shaded || technique != gl::GdmTechnique::Gdm)
+        if (output == TraceOutput::Shaded || technique != gl::GdmTechnique::Gdm) {
             renderer.setVolumes(asset.occupancy, asset.albedo);
+            renderer.setDistance(asset.distance);  // none in older assets: refine reads the occupancy
+        }
         if (output == TraceOutput::Shaded) {
             shaded = renderer.renderShaded(view, light, width, height, lookup, technique);
             images.mask = Image(width, height, 1);
@@ -301,7 +303,8 @@ void addGdmTraceCommand(CLI::App& gdm) {
                         "length of one tile)");
     command->add_option(
         "--technique", options->technique,
-        "With --gl: gdm (the paper's lookup, default), refine (then the occupancy near the hit) or "
+        "With --gl: gdm (the paper's lookup, default), refine (sphere tracing on the asset's distance "
+        "volume; without one, the occupancy near the hit) or "
         "march (the occupancy every voxel, no GDM)");
     command->add_option("--lookup", options->lookup,
                         "Direction lookup of the emulation: nearest (default) or bilinear");

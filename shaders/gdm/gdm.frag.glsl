@@ -20,8 +20,13 @@
 //
 // Outputs (uOutput): 0 uvw: (u, v modulo 1, w, 1); 1 shadow: (lit, 0, 0, 1), lit iff the lookup towards the
 // light from one voxel back along V, leaving out the corners below half a voxel, is an exit (emulateGdm's
-// rule, with the object-space light direction as L_t, the paper's choice); 2 prism id + 1, no GDM (the crack
-// test of gdm_renderer.h); 3 shaded: (linear RGB, 1), shade() below, with that shadow.
+// rule, with the object-space light direction as L_t, the paper's choice, or with it mapped by the prism's
+// inverse Jacobian: textureLight); refine on the signed distance volume traces the shadow on it instead
+// (litByDistance); 2 prism id + 1, no GDM (the crack test of gdm_renderer.h); 3 shaded: (linear RGB, 1),
+// shade() below, with that shadow.
+//
+// Not in the paper: refine on the signed distance volume (uTechnique 1 with uHasDistance), sphere tracing
+// from T_in to T_out (traceDistance); see GdmTechnique::Refine.
 
 in VertexData {
     vec3 worldPosition;
@@ -43,14 +48,21 @@ layout(std430, binding = 3) readonly buffer GdmRaw { float rawValues[]; };
 // The volumes, for shading: occupancy (1 inside) and linear albedo (RGB) per voxel, x fastest (§8).
 layout(std430, binding = 4) readonly buffer GdmOccupancy { float occupancy[]; };
 layout(std430, binding = 5) readonly buffer GdmAlbedo { float albedo[]; };
+// The signed distance volume (tile widths, negative inside, x fastest), for refine and the normals.
+layout(std430, binding = 6) readonly buffer GdmDistance { float distanceValues[]; };
+// Per prism, the rows of the inverse of its Jacobian (isotropic texture frame -> world): 3 vec4 (w unused).
+layout(std430, binding = 7) readonly buffer PrismLightFrames { vec4 lightFrames[]; };
 
 uniform mat4 uViewProjection;
 uniform vec3 uEye;
 uniform vec3 uLight;
 uniform int uOutput;       // 0 uvw, 1 shadow, 2 the prism's id + 1 (the crack test), 3 shaded
 uniform bool uHasAlbedo;
-uniform int uTechnique;    // 0 gdm: the paper's lookup; 1 refine: the lookup, then the occupancy near it; 2 march
+uniform int uTechnique;    // 0 gdm: the paper's lookup; 1 refine (see main); 2 march
+uniform bool uHasDistance; // the signed distance volume is bound: refine traces it, normals are its gradient
+uniform bool uJacobianLight; // the light direction in texture space: the prism's inverse Jacobian of the world one
 uniform ivec3 uVoxels;     // Nx, Ny, Nz
+uniform ivec3 uDistanceVoxels; // the signed distance volume's grid (the GDM's, or finer)
 uniform ivec2 uDirections; // Ntheta, Nphi
 uniform float uHeight;     // H
 uniform int uRank;         // k; 0: the raw GDM
@@ -60,6 +72,14 @@ uniform bool uBilinearDirections;
 const float kPi = 3.14159265358979;
 const float kShadowBackoffVoxels = 1.0;
 const float kShadowDropVoxels = 0.5;
+// Refine on the signed distance volume: each step is this fraction of the distance there (the trilinear
+// distance is within interpolation error of the true one, which is a safe step), and at least kMinStepVoxels;
+// after kMaxSteps steps the GDM lookup answers for the rest of the segment. The crossing found is polished
+// by kPolishSteps steps of regula falsi.
+const float kStepFraction = 0.9;
+const float kMinStepVoxels = 0.1;
+const int kMaxSteps = 96;
+const int kPolishSteps = 6;
 
 float boundaryDistance(int k, int t) {
     float z = (float(k) + 0.5) * uHeight / float(uVoxels.z);
@@ -145,34 +165,66 @@ int voxelIndex(int i, int j, int k) {
     return (k * uVoxels.y + j) * uVoxels.x + i;
 }
 
-// The occupancy volume, trilinear between voxel centres (wrapping in u, v, clamped in w).
-float occupancyAt(vec3 point) {
-    float fx = point.x * float(uVoxels.x) - 0.5;
-    float fy = point.y * float(uVoxels.y) - 0.5;
-    float fz = clamp(point.z / uHeight * float(uVoxels.z) - 0.5, 0.0, float(uVoxels.z - 1));
+// The 8 voxels and weights of the trilinear stencil at a texture point in a grid of `size` voxels (between
+// voxel centres, wrapping in u, v, clamped in w).
+void trilinearStencil(vec3 point, ivec3 size, out int index[8], out float weight[8]) {
+    float fx = point.x * float(size.x) - 0.5;
+    float fy = point.y * float(size.y) - 0.5;
+    float fz = clamp(point.z / uHeight * float(size.z) - 0.5, 0.0, float(size.z - 1));
     vec3 base = floor(vec3(fx, fy, fz));
     vec3 a = vec3(fx, fy, fz) - base;
-    float sum = 0.0;
     for (int corner = 0; corner < 8; ++corner) {
         int dx = corner & 1, dy = (corner >> 1) & 1, dz = corner >> 2;
-        float weight = (dx == 1 ? a.x : 1.0 - a.x) * (dy == 1 ? a.y : 1.0 - a.y) * (dz == 1 ? a.z : 1.0 - a.z);
-        sum += weight * occupancy[voxelIndex(int(base.x) + dx, int(base.y) + dy, int(base.z) + dz)];
+        weight[corner] = (dx == 1 ? a.x : 1.0 - a.x) * (dy == 1 ? a.y : 1.0 - a.y) * (dz == 1 ? a.z : 1.0 - a.z);
+        int i = ((int(base.x) + dx) % size.x + size.x) % size.x;
+        int j = ((int(base.y) + dy) % size.y + size.y) % size.y;
+        int k = min(int(base.z) + dz, size.z - 1);
+        index[corner] = (k * size.y + j) * size.x + i;
     }
+}
+
+// The occupancy volume, trilinear.
+float occupancyAt(vec3 point) {
+    int index[8];
+    float weight[8];
+    trilinearStencil(point, uVoxels, index, weight);
+    float sum = 0.0;
+    for (int corner = 0; corner < 8; ++corner) sum += weight[corner] * occupancy[index[corner]];
     return sum;
 }
 
-// Shading of a hit at texture point T (world P), the ray's texture direction V: the normal is the
-// occupancy's gradient (central differences one voxel apart, in the isotropic frame), taken to world by
-// the mesh's interpolated tangent frame; the albedo is the nearest voxel's; Blinn-Phong with the local
-// shadow.
-vec3 shade(vec3 texturePoint, vec3 worldPoint, vec3 direction, bool lit) {
+// The signed distance volume (tile widths, negative inside), trilinear.
+float distanceAt(vec3 point) {
+    int index[8];
+    float weight[8];
+    trilinearStencil(point, uDistanceVoxels, index, weight);
+    float sum = 0.0;
+    for (int corner = 0; corner < 8; ++corner) sum += weight[corner] * distanceValues[index[corner]];
+    return sum;
+}
+
+// The outward normal in the isotropic frame at a texture point: the signed distance's gradient (with it) or
+// minus the occupancy's (central differences one voxel apart); (0, 0, 0) where the gradient vanishes.
+vec3 volumeNormal(vec3 p) {
     vec3 h = vec3(1.0 / float(uVoxels.x), 1.0 / float(uVoxels.y), uHeight / float(uVoxels.z));
-    vec3 gradient = vec3(occupancyAt(texturePoint + vec3(h.x, 0.0, 0.0)) - occupancyAt(texturePoint - vec3(h.x, 0.0, 0.0)),
-                         occupancyAt(texturePoint + vec3(0.0, h.y, 0.0)) - occupancyAt(texturePoint - vec3(0.0, h.y, 0.0)),
-                         occupancyAt(texturePoint + vec3(0.0, 0.0, h.z)) - occupancyAt(texturePoint - vec3(0.0, 0.0, h.z)));
-    // Occupancy is 1 inside: the outward normal points down its gradient; where the gradient vanishes
-    // (a hit on the shell's cut face), the face faces the ray.
-    vec3 n = length(gradient) > 1e-6 ? -normalize(gradient) : -direction;
+    vec3 dx = vec3(h.x, 0.0, 0.0), dy = vec3(0.0, h.y, 0.0), dz = vec3(0.0, 0.0, h.z);
+    vec3 gradient;
+    if (uHasDistance)
+        gradient = vec3(distanceAt(p + dx) - distanceAt(p - dx), distanceAt(p + dy) - distanceAt(p - dy),
+                        distanceAt(p + dz) - distanceAt(p - dz)) / (2.0 * h);
+    else
+        gradient = -vec3(occupancyAt(p + dx) - occupancyAt(p - dx), occupancyAt(p + dy) - occupancyAt(p - dy),
+                         occupancyAt(p + dz) - occupancyAt(p - dz));
+    return length(gradient) > 1e-6 ? normalize(gradient) : vec3(0.0);
+}
+
+// Shading of a hit at texture point T (world P), the ray's texture direction V: the normal is volumeNormal's,
+// taken to world by the mesh's interpolated tangent frame; the albedo is the nearest voxel's; Blinn-Phong
+// with the local shadow.
+vec3 shade(vec3 texturePoint, vec3 worldPoint, vec3 direction, bool lit) {
+    vec3 n = volumeNormal(texturePoint);
+    // Where the gradient vanishes (a hit on the shell's cut face), the face faces the ray.
+    if (n == vec3(0.0)) n = -direction;
     vec3 world = normalize(n.x * vIn.tangent + n.y * vIn.bitangent + n.z * vIn.normal);
     vec3 toEye = normalize(uEye - worldPoint);
     if (dot(world, toEye) < 0.0) world = -world;  // a gradient estimated across a thin part
@@ -206,6 +258,69 @@ vec2 marchOccupancy(vec3 start, vec3 direction, float from, float to, float step
         previous = value;
     }
     return vec2(1e30, 1.0);
+}
+
+// The first zero of the trilinear signed distance along T_in + s V, 0 <= s < to, by sphere tracing (steps
+// of kStepFraction times the distance, at least `minStep`) and regula falsi between the last point outside
+// and the first inside: x = distance, y = 1 if there is none, z = 1 if kMaxSteps ran out first (x is then
+// how far it came).
+vec3 traceDistance(vec3 start, vec3 direction, float to, float minStep) {
+    float s = 0.0;
+    float f = distanceAt(start);
+    if (f <= 0.0) return vec3(0.0, 0.0, 0.0);
+    for (int n = 0; n < kMaxSteps; ++n) {
+        if (s >= to) return vec3(1e30, 1.0, 0.0);
+        float next = min(s + max(kStepFraction * f, minStep), to);
+        float g = distanceAt(start + next * direction);
+        if (g <= 0.0) {
+            float a = s, fa = f, b = next, fb = g;
+            for (int m = 0; m < kPolishSteps; ++m) {
+                // Kept off the ends, so that one end that barely moves still shrinks the bracket.
+                float c = clamp(a + (b - a) * fa / (fa - fb), mix(a, b, 0.05), mix(a, b, 0.95));
+                float fc = distanceAt(start + c * direction);
+                if (fc > 0.0) {
+                    a = c;
+                    fa = fc;
+                } else {
+                    b = c;
+                    fb = fc;
+                }
+            }
+            return vec3(a + (b - a) * fa / (fa - fb), 0.0, 0.0);
+        }
+        s = next;
+        f = g;
+    }
+    return vec3(s, 1.0, 1.0);
+}
+
+// The direction to the light in the isotropic texture frame: the world one (the paper's), or mapped by the
+// prism's inverse Jacobian.
+vec3 textureLight(vec3 worldPoint) {
+    vec3 toLight = uLight - worldPoint;
+    if (uJacobianLight) {
+        int row = int(vIn.prism) * 3;
+        toLight = vec3(dot(lightFrames[row].xyz, toLight), dot(lightFrames[row + 1].xyz, toLight),
+                       dot(lightFrames[row + 2].xyz, toLight));
+    }
+    return normalize(toLight);
+}
+
+// Refine's shadow on the signed distance: lit iff the normal (volumeNormal) faces the light and sphere
+// tracing from kShadowOffsetVoxels off the surface along it towards the light meets no zero crossing before
+// it leaves the slab 0 <= w <= 1 (CONVENTIONS §8's local shadow); where the steps run out, the GDM lookup
+// from there answers.
+const float kShadowOffsetVoxels = 0.25;
+bool litByDistance(vec3 point, vec3 toLight, float voxel) {
+    vec3 n = volumeNormal(point);
+    if (n != vec3(0.0) && dot(n, toLight) <= 0.0) return false;
+    vec3 start = point + kShadowOffsetVoxels * voxel * n;
+    float to = toLight.z > 1e-6 ? (uHeight - start.z) / toLight.z
+             : toLight.z < -1e-6 ? -start.z / toLight.z : 64.0;
+    to = clamp(to, 0.0, 64.0);
+    vec3 traced = traceDistance(start, toLight, to, kMinStepVoxels * voxel);
+    if (traced.z > 0.5) return lookupGdm(start + traced.x * toLight, toLight, kShadowDropVoxels * voxel).y > 0.5;
+    return traced.y > 0.5;
 }
 
 void main() {
@@ -249,10 +364,21 @@ void main() {
     if (uTechnique == 2) {
         // march: the occupancy every voxel from T_in to T_out, no GDM (the paper's slice-based comparison).
         hit = marchOccupancy(vIn.texturePosition, direction, 0.0, dt, voxel);
+    } else if (uTechnique == 1 && uHasDistance) {
+        // refine on the signed distance: sphere tracing from T_in to T_out, so that the lookup's misses and
+        // its hits in the wrong place are both corrected; where the steps run out (a ray grazing a surface
+        // for long), the GDM lookup from there answers for the rest.
+        vec3 traced = traceDistance(vIn.texturePosition, direction, dt, kMinStepVoxels * voxel);
+        hit = traced.xy;
+        if (traced.z > 0.5) {
+            vec2 rest = lookupGdm(vIn.texturePosition + traced.x * direction, direction, -1.0);
+            hit = vec2(traced.x + rest.x, rest.y);
+        }
     } else {
         hit = lookupGdm(vIn.texturePosition, direction, -1.0);
         if (uTechnique == 1 && hit.y < 0.5 && hit.x < dt) {
-            // refine: the occupancy's crossing within two voxels of the GDM's answer, a quarter voxel apart.
+            // refine without a distance volume: the occupancy's crossing within two voxels of the GDM's
+            // answer, a quarter voxel apart.
             vec2 near = marchOccupancy(vIn.texturePosition, direction, max(hit.x - 2.0 * voxel, 0.0),
                                        min(hit.x + 2.0 * voxel, dt), 0.25 * voxel);
             if (near.y < 0.5) hit = near;
@@ -267,8 +393,9 @@ void main() {
         fragColor = vec4(fract(texturePoint.x), fract(texturePoint.y), clamp(texturePoint.z / uHeight, 0.0, 1.0), 1.0);
     } else {
         vec3 back = texturePoint - kShadowBackoffVoxels * voxel * direction;
-        vec3 toLight = normalize(uLight - worldPoint);
-        vec2 shadow = lookupGdm(back, toLight, kShadowDropVoxels * voxel);
+        vec3 toLight = textureLight(worldPoint);
+        vec2 shadow = uTechnique == 1 && uHasDistance ? vec2(0.0, litByDistance(texturePoint, toLight, voxel) ? 1.0 : 0.0)
+                                                      : lookupGdm(back, toLight, kShadowDropVoxels * voxel);
         if (uOutput == 1)
             fragColor = vec4(shadow.y, 0.0, 0.0, 1.0);
         else

@@ -47,7 +47,7 @@ struct Payload {
     }
 };
 
-std::vector<Payload> payloadsFor(const GdmSvd& svd, bool hasAlbedo, bool hasRaw) {
+std::vector<Payload> payloadsFor(const GdmSvd& svd, bool hasAlbedo, bool hasRaw, bool hasDistance) {
     const GdmDims& d = svd.dims;
     const auto r = std::size_t(svd.rank);
     std::vector<Payload> payloads = {
@@ -67,6 +67,12 @@ std::vector<Payload> payloadsFor(const GdmSvd& svd, bool hasAlbedo, bool hasRaw)
                             "float32",
                             {std::size_t(d.nx), std::size_t(d.ny), std::size_t(d.nz), std::size_t(d.ntheta),
                              std::size_t(d.nphi)},
+                            4});
+    if (hasDistance)
+        payloads.push_back({"distance",
+                            "distance.f32",
+                            "float32",
+                            {std::size_t(d.nx), std::size_t(d.ny), std::size_t(d.nz)},
                             4});
     return payloads;
 }
@@ -139,6 +145,14 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
     if (asset.raw && (asset.raw->dims != svd.dims || asset.raw->height != svd.height ||
                       asset.raw->values.size() != svd.dims.valueCount()))
         throw Error(ErrorKind::InvalidInput, what + ": the raw GDM's dims or H differ from the SVD's");
+    if (!asset.distance.empty() && asset.distance.size() != svd.dims.voxelCount())
+        throw Error(ErrorKind::InvalidInput, what + ": the distance volume has " +
+                                                 std::to_string(asset.distance.size()) + " voxels, not " +
+                                                 std::to_string(svd.dims.voxelCount()));
+    for (const float value : asset.distance)
+        if (!std::isfinite(value))
+            throw Error(ErrorKind::InvalidInput, what + ": the distance volume holds a value " +
+                                                     formatNumber(value) + " that is not finite");
     std::string solidText;
     if (asset.solid) {
         if (asset.solid->height != svd.height)
@@ -160,7 +174,8 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
         if (fs::equivalent(dir, input, ec))
             throw Error(ErrorKind::Io, what + ": is an input (refusing to overwrite it)");
 
-    const std::vector<Payload> payloads = payloadsFor(svd, !asset.albedo.empty(), asset.raw.has_value());
+    const std::vector<Payload> payloads =
+        payloadsFor(svd, !asset.albedo.empty(), asset.raw.has_value(), !asset.distance.empty());
     json sidecar;
     sidecar["format"] = kGdmAssetFormat;
     sidecar["version"] = kGdmAssetVersion;
@@ -195,11 +210,12 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
     std::vector<std::string> names;
     for (const Payload& p : payloads) {
         refuseToOverwriteInputs(dir / p.file, inputs);
-        const void* data = p.key == "weights"  ? static_cast<const void*>(svd.weights.data())
-                           : p.key == "eigen"  ? static_cast<const void*>(svd.eigen.data())
-                           : p.key == "raw"    ? static_cast<const void*>(asset.raw->values.data())
-                           : p.key == "albedo" ? static_cast<const void*>(asset.albedo.data())
-                                               : static_cast<const void*>(asset.occupancy.data());
+        const void* data = p.key == "weights"    ? static_cast<const void*>(svd.weights.data())
+                           : p.key == "eigen"    ? static_cast<const void*>(svd.eigen.data())
+                           : p.key == "raw"      ? static_cast<const void*>(asset.raw->values.data())
+                           : p.key == "albedo"   ? static_cast<const void*>(asset.albedo.data())
+                           : p.key == "distance" ? static_cast<const void*>(asset.distance.data())
+                                                 : static_cast<const void*>(asset.occupancy.data());
         writeBytes(staging.path() / p.file, data, p.bytes());
         names.push_back(p.file);
     }
@@ -219,6 +235,7 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
     fs::remove(dir / kGdmAssetSidecar, ec);
     if (!asset.raw) fs::remove(dir / "raw.f32", ec);
     if (asset.albedo.empty()) fs::remove(dir / "albedo.rgb8", ec);
+    if (asset.distance.empty()) fs::remove(dir / "distance.f32", ec);
     if (!asset.solid) fs::remove(dir / kSolidFile, ec);
     for (const std::string& name : names) {
         fs::rename(staging.path() / name, dir / name, ec);
@@ -308,7 +325,7 @@ GdmAsset readGdmAsset(const fs::path& dir) {
     top.rejectUnknown();
     detail::JsonObjectReader files(*filesJson, "payloads", file);
     const bool hasRaw = files.has("raw");
-    for (const Payload& p : payloadsFor(svd, files.has("albedo"), hasRaw)) {
+    for (const Payload& p : payloadsFor(svd, files.has("albedo"), hasRaw, files.has("distance"))) {
         const json* entry = files.object(p.key);
         const std::string where = "payloads." + p.key;
         if (!entry) files.fail(where, "missing");
@@ -342,6 +359,7 @@ GdmAsset readGdmAsset(const fs::path& dir) {
         if (p.key == "eigen") svd.eigen = floats();
         if (p.key == "raw") asset.raw = Gdm{svd.dims, svd.height, floats()};
         if (p.key == "albedo") asset.albedo.assign(bytes.begin(), bytes.end());
+        if (p.key == "distance") asset.distance = floats();
         if (p.key == "occupancy") {
             asset.occupancy.assign(bytes.begin(), bytes.end());
             for (std::uint8_t o : asset.occupancy)

@@ -14,9 +14,11 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -75,10 +77,15 @@ struct GdmRenderer::Impl {
     Buffer weights, eigen, raw;
     Buffer occupancy, albedo;  // for shading: float per voxel, linear RGB per voxel
     bool hasOccupancy = false, hasAlbedo = false;
+    Buffer signedDistance;  // per voxel, for refine and the normals
+    bool hasDistance = false;
+    glm::ivec3 distanceVoxels{1};
+    GdmLightFrame lightFrame = GdmLightFrame::World;
     // The mesh's shell: entry faces (tops and fins) and base faces to draw, every prism's 8 triangles for
     // the exit search, and the shell's bounds.
     bool hasMesh = false;
     Buffer entryVertices, baseVertices, faces;
+    Buffer lightFrames;  // per prism, the rows of J^-1 (gdmPrismJacobian) as 3 vec4
     GLsizei entryCount = 0, baseCount = 0;
     VertexArray entryArray, baseArray;
     glm::dvec3 lo{0.0}, hi{0.0};
@@ -89,7 +96,8 @@ struct GdmRenderer::Impl {
         const std::vector<float> none;
         occupancy.store(none);
         albedo.store(none);
-        hasOccupancy = hasAlbedo = false;
+        signedDistance.store(none);
+        hasOccupancy = hasAlbedo = hasDistance = false;
         rank = k;
         tolerance = tol;
         hasMesh = false;  // the shell's thickness and texture positions depend on H
@@ -136,6 +144,10 @@ struct GdmRenderer::Impl {
                     directions == GdmDirectionLookup::Bilinear);
         glUniform1i(program.uniformLocation("uOutput"), output);
         glUniform1i(program.uniformLocation("uHasAlbedo"), hasAlbedo ? 1 : 0);
+        glUniform1i(program.uniformLocation("uHasDistance"), hasDistance ? 1 : 0);
+        glUniform3i(program.uniformLocation("uDistanceVoxels"), distanceVoxels.x, distanceVoxels.y,
+                    distanceVoxels.z);
+        glUniform1i(program.uniformLocation("uJacobianLight"), lightFrame == GdmLightFrame::Jacobian ? 1 : 0);
         glUniform1i(program.uniformLocation("uTechnique"), technique == GdmTechnique::Gdm      ? 0
                                                            : technique == GdmTechnique::Refine ? 1
                                                                                                : 2);
@@ -145,6 +157,8 @@ struct GdmRenderer::Impl {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, raw.id);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, occupancy.id);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, albedo.id);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, signedDistance.id);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, lightFrames.id);
         glBindVertexArray(array.id);
         glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer());
         glViewport(0, 0, width, height);
@@ -230,8 +244,26 @@ void GdmRenderer::setMesh(const Mesh& mesh, const PrismShellOptions& shellOption
     entry.reserve(shell.prisms.size() * 21);
     base.reserve(shell.prisms.size() * 3);
     faces.reserve(shell.prisms.size() * 48);
+    std::vector<glm::vec4> lightFrames;
+    lightFrames.reserve(shell.prisms.size() * 3);
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
     for (std::size_t p = 0; p < shell.prisms.size(); ++p) {
+        std::array<glm::dvec3, 3> prismBase, prismTop;
+        std::array<glm::dvec2, 3> prismTile;
+        for (int c = 0; c < 3; ++c) {
+            prismBase[c] = glm::dvec3(shell.base[shell.prisms[p][c]]);
+            prismTop[c] = glm::dvec3(shell.top[shell.prisms[p][c]]);
+            prismTile[c] = options.tiling * glm::dvec2(mesh.vertices[shell.corners[p][c]].uv);
+        }
+        const glm::dmat3 jacobian = gdmPrismJacobian(prismBase, prismTop, prismTile, options.height);
+        const double determinant = glm::determinant(jacobian);
+        // A degenerate prism keeps the world direction (the identity).
+        const glm::dmat3 inverse = std::isfinite(determinant) && std::abs(determinant) > 1e-300
+                                       ? glm::inverse(jacobian)
+                                       : glm::dmat3(1.0);
+        // glm is column-major: row r of the inverse is (inverse[0][r], inverse[1][r], inverse[2][r]).
+        for (int r = 0; r < 3; ++r)
+            lightFrames.emplace_back(float(inverse[0][r]), float(inverse[1][r]), float(inverse[2][r]), 0.0f);
         const auto triangles = prismTriangleCorners(shell, p);
         for (int f = 0; f < 8; ++f)
             for (const PrismCorner& corner : triangles[f]) {
@@ -259,6 +291,7 @@ void GdmRenderer::setMesh(const Mesh& mesh, const PrismShellOptions& shellOption
     mImpl->entryVertices.store(entry);
     mImpl->baseVertices.store(base);
     mImpl->faces.store(faces);
+    mImpl->lightFrames.store(lightFrames);
     Impl::describe(mImpl->entryArray, mImpl->entryVertices);
     Impl::describe(mImpl->baseArray, mImpl->baseVertices);
     checkGl("GdmRenderer: uploading the shell");
@@ -274,9 +307,11 @@ GdmSceneImages GdmRenderer::render(const Camera& camera, glm::dvec3 light, int w
     validateCamera(camera);
     validateGdmPicture(width, height);
     if (!mImpl->hasMesh) throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM and the mesh first");
-    if (technique != GdmTechnique::Gdm && !mImpl->hasOccupancy)
+    if ((technique == GdmTechnique::March && !mImpl->hasOccupancy) ||
+        (technique == GdmTechnique::Refine && !mImpl->hasOccupancy && !mImpl->hasDistance))
         throw Error(ErrorKind::InvalidInput,
-                    "GdmRenderer: refine and march read the occupancy volume (setVolumes)");
+                    "GdmRenderer: march reads the occupancy volume (setVolumes), "
+                    "refine the distance volume (setDistance) or the occupancy");
     const BindingGuard guard;
     mImpl->target.ensure(width, height, GL_RGBA32F, "GdmRenderer");
     GdmSceneImages images{Image(width, height, 4), Image(width, height, 1), Image(width, height, 1)};
@@ -316,6 +351,32 @@ void GdmRenderer::setVolumes(const std::vector<std::uint8_t>& occupancy,
     mImpl->hasAlbedo = !albedo.empty();
 }
 
+void GdmRenderer::setDistance(const std::vector<float>& distance) {
+    if (!mImpl->dims)
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM before its distance volume");
+    setDistance(distance, glm::ivec3(mImpl->dims->nx, mImpl->dims->ny, mImpl->dims->nz));
+}
+
+void GdmRenderer::setDistance(const std::vector<float>& distance, glm::ivec3 size) {
+    if (!mImpl->dims)
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the GDM before its distance volume");
+    if (size.x < 1 || size.y < 1 || size.z < 1)
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: the distance volume's grid must be >= 1 voxel");
+    const std::size_t voxels = std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
+    if (!distance.empty() && distance.size() != voxels)
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: the distance volume has " +
+                                                 std::to_string(distance.size()) + " voxels, its grid " +
+                                                 std::to_string(voxels));
+    mImpl->signedDistance.store(distance);
+    checkGl("GdmRenderer: uploading the distance volume");
+    mImpl->hasDistance = !distance.empty();
+    mImpl->distanceVoxels = size;
+}
+
+void GdmRenderer::setLightFrame(GdmLightFrame frame) {
+    mImpl->lightFrame = frame;
+}
+
 Image GdmRenderer::renderShaded(const Camera& camera, glm::dvec3 light, int width, int height,
                                 GdmDirectionLookup directions, GdmTechnique technique) {
     validateCamera(camera);
@@ -349,6 +410,19 @@ Image GdmRenderer::renderPrismIds(const Camera& camera, int width, int height, P
             ids.at(x, y) = p[3] > 0.5f ? p[0] : 0.0f;
         }
     return ids;
+}
+
+glm::dmat3 gdmPrismJacobian(const std::array<glm::dvec3, 3>& base, const std::array<glm::dvec3, 3>& top,
+                            const std::array<glm::dvec2, 3>& tile, double height) {
+    // [dP/du dP/dv] [du1 du2; dv1 dv2] = [e1 e2], the base's edges from corner 0 in world and in tiles.
+    const glm::dvec3 e1 = base[1] - base[0], e2 = base[2] - base[0];
+    const glm::dvec2 t1 = tile[1] - tile[0], t2 = tile[2] - tile[0];
+    const double det = t1.x * t2.y - t2.x * t1.y;
+    const glm::dvec3 extrusion = ((top[0] - base[0]) + (top[1] - base[1]) + (top[2] - base[2])) / 3.0;
+    if (det == 0.0 || !(height > 0.0)) return glm::dmat3(0.0);
+    const glm::dvec3 du = (e1 * t2.y - e2 * t1.y) / det;
+    const glm::dvec3 dv = (e2 * t1.x - e1 * t2.x) / det;
+    return glm::dmat3(du, dv, extrusion / height);
 }
 
 namespace {

@@ -7,6 +7,7 @@
 #include "strata/gdm/gdm_analytic.h"
 #include "strata/gdm/gdm_asset.h"
 #include "strata/gdm/gdm_bake.h"
+#include "strata/gdm/gdm_distance.h"
 #include "strata/gdm/gdm_svd.h"
 #include "strata/gdm/gdm_trace.h"
 #include "strata/gdm/mesostructure.h"
@@ -17,13 +18,16 @@
 #include "strata/scene/scene.h"
 
 #include <gtest/gtest.h>
+#include <glm/matrix.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace strata {
 namespace {
@@ -172,6 +176,183 @@ TEST_F(GdmRendererGl, RefineAndMarchAgainstTheReference) {
     bare.setMesh(makeBuiltinMesh("quad"), {});
     EXPECT_THROW(bare.render(camera, kLight, 8, 8, GdmDirectionLookup::Nearest, gl::GdmTechnique::March),
                  Error);
+}
+
+// A built-in meshed and baked at `strata gdm bake`'s defaults (64 x 64 x 16 voxels, meshed at 64 voxels per
+// tile), with its distance volume: the accuracy table's scenes (docs/gdm.md, bench_gdm_gl's `accuracy`).
+// `directions` is the GDM's (16 x 32 by default); refine on the distance volume reads the GDM only where it
+// runs out of steps, so a test of refine alone bakes fewer, to save time.
+struct BakedDefault {
+    SolidMesh solid;
+    Gdm gdm;
+    std::vector<float> distance;
+};
+
+BakedDefault bakeDefault(const std::string& name, int ntheta = 16, int nphi = 32) {
+    BakedDefault b;
+    b.solid = meshMesostructure(makeMesostructure(name), 64);
+    b.gdm = bakeGdm(b.solid, GdmDims{64, 64, 16, ntheta, nphi});
+    b.distance = bakeGdmDistance(b.solid, GdmDims{});
+    return b;
+}
+
+TEST_F(GdmRendererGl, RefineOnTheDistanceVolumeIsExactOnTheFlatWeave) {
+    // Issue 18's goal for refine: <= 0.5 % hit / miss and uvw p99 <= 0.5 voxel on the flat scene (weave,
+    // 45 degrees, 256 x 256); the other techniques' rows of the accuracy table beside it. (Rank 8 gives
+    // refine's numbers to 4 digits, bench_gdm_gl; its SVD is left to the bench to save time.)
+    const BakedDefault weave64 = bakeDefault("weave");
+    const Gdm& gdm = weave64.gdm;
+    const double voxel = gdm.height / gdm.dims.nz;
+    const Camera camera = viewAt(45.0);
+    constexpr int kTableSize = 256;
+    const GdmSceneImages reference =
+        renderGdmReference(weave64.solid, camera, kLight, kTableSize, kTableSize);
+    gl::GdmRenderer renderer;
+    auto measure = [&](gl::GdmTechnique technique) {
+        return compareGdmScenes(
+            reference,
+            renderer.render(camera, kLight, kTableSize, kTableSize, GdmDirectionLookup::Nearest, technique),
+            gdm.height, voxel);
+    };
+    renderer.setGdm(gdm);
+    renderer.setMesh(makeBuiltinMesh("quad"), {});
+    renderer.setVolumes(gdmOccupancy(gdm), {});
+    const GdmSceneAccuracy lookup = measure(gl::GdmTechnique::Gdm);
+    const GdmSceneAccuracy march = measure(gl::GdmTechnique::March);
+    renderer.setDistance(weave64.distance);
+    const GdmSceneAccuracy refine = measure(gl::GdmTechnique::Refine);
+    // The shaded picture (normals from the distance's gradient) covers the same pixels as refine's.
+    const GdmSceneImages refined = renderer.render(camera, kLight, kTableSize, kTableSize,
+                                                   GdmDirectionLookup::Nearest, gl::GdmTechnique::Refine);
+    const Image shaded = renderer.renderShaded(camera, kLight, kTableSize, kTableSize,
+                                               GdmDirectionLookup::Nearest, gl::GdmTechnique::Refine);
+    int differ = 0;
+    for (int y = 0; y < kTableSize; ++y)
+        for (int x = 0; x < kTableSize; ++x) differ += shaded.at(x, y, 3) != refined.mask.at(x, y);
+    EXPECT_EQ(differ, 0);
+    // Measured: refine 0.34 % hit / miss, uvw mean 0.024, p99 0.21 voxels, shadow 99.5 %. The issue's
+    // bounds, as they are.
+    EXPECT_LE(refine.hitMissDisagreePercent, 0.5);
+    EXPECT_LE(refine.uvwP99Voxels, 0.5);
+    // Its own shadow, traced on the distance volume, agrees where both hit; measured 99.5 %, a margin of
+    // half a percent for the terminator's pixels (gradient normals against the mesh's).
+    EXPECT_GE(refine.shadowAgreePercent, 99.0);
+    // Measured: gdm 1.69 % / p99 2.91 voxels / shadow 96.4 %; march 0.65 % / 1.93 / 96.3 %. Bounds 20 %
+    // above (another driver's float rounding flips a few lookups on the d < dt edge), so that a change that
+    // makes them worse shows; refine must beat both by the margins it has.
+    EXPECT_LE(lookup.hitMissDisagreePercent, 2.0);
+    EXPECT_LE(lookup.uvwP99Voxels, 3.5);
+    EXPECT_LE(march.hitMissDisagreePercent, 0.8);
+    EXPECT_LE(march.uvwP99Voxels, 2.3);
+    EXPECT_LT(refine.hitMissDisagreePercent, 0.6 * march.hitMissDisagreePercent);
+    EXPECT_LT(refine.uvwMeanVoxels, 0.2 * march.uvwMeanVoxels);
+}
+
+TEST_F(GdmRendererGl, RefineOnTheDistanceVolumeOnTheChain) {
+    // The chain's links are thin (a few voxels): the accuracy table's hardest row for refine. At 128 x 128,
+    // 45 degrees. Measured: 1.4 % hit / miss, uvw p95 0.31 voxels (at 256 x 256: 1.52 %, 0.29; the GDM
+    // lookup there 12.6 %, p95 6.2 voxels).
+    const BakedDefault chain = bakeDefault("chain", 2, 4);
+    const Gdm& gdm = chain.gdm;
+    const double voxel = gdm.height / gdm.dims.nz;
+    const Camera camera = viewAt(45.0);
+    const GdmSceneImages reference = renderGdmReference(chain.solid, camera, kLight, kSize, kSize);
+    gl::GdmRenderer renderer;
+    renderer.setGdm(gdm);
+    renderer.setMesh(makeBuiltinMesh("quad"), {});
+    renderer.setDistance(chain.distance);
+    const GdmSceneImages refined =
+        renderer.render(camera, kLight, kSize, kSize, GdmDirectionLookup::Nearest, gl::GdmTechnique::Refine);
+    const GdmSceneAccuracy refine = compareGdmScenes(reference, refined, gdm.height, voxel);
+    // A third above the measured numbers: fewer pixels than the 256 x 256 table, so more noise.
+    EXPECT_LE(refine.hitMissDisagreePercent, 2.0);
+    EXPECT_LE(refine.uvwP95Voxels, 0.4);
+    // Refine with the distance volume needs no occupancy; march does, and sizes are checked.
+    EXPECT_THROW(renderer.render(camera, kLight, 8, 8, GdmDirectionLookup::Nearest, gl::GdmTechnique::March),
+                 Error);
+    EXPECT_THROW(renderer.setDistance(std::vector<float>(7, 0.0f)), Error);
+    EXPECT_THROW(renderer.setDistance(chain.distance, glm::ivec3(32, 32, 16)), Error);
+    // A grid given explicitly is read as such: the GDM's own, the same picture.
+    renderer.setDistance(chain.distance, glm::ivec3(64, 64, 16));
+    const GdmSceneImages again =
+        renderer.render(camera, kLight, kSize, kSize, GdmDirectionLookup::Nearest, gl::GdmTechnique::Refine);
+    EXPECT_EQ(compareGdmScenes(refined, again, gdm.height, voxel).hitMissDisagreePercent, 0.0);
+}
+
+TEST(GdmPrismJacobian, IsTheAffineMapOfTheBaseAndTheMeanExtrusion) {
+    // Corners P = O + M (u, v) on the base, each top = base + e: J = [M e / H] exactly.
+    const glm::dvec3 origin(0.3, -1.0, 2.0), mu(2.0, 0.5, 0.0), mv(-0.25, 1.5, 0.75), e(0.1, 0.2, 0.4);
+    const std::array<glm::dvec2, 3> tile = {glm::dvec2(1.0, 2.0), glm::dvec2(3.5, 2.25),
+                                            glm::dvec2(0.5, 4.0)};
+    std::array<glm::dvec3, 3> base, top;
+    for (int c = 0; c < 3; ++c) {
+        base[c] = origin + tile[c].x * mu + tile[c].y * mv;
+        top[c] = base[c] + e;
+    }
+    const double height = 0.2;
+    const glm::dmat3 j = gl::gdmPrismJacobian(base, top, tile, height);
+    for (int r = 0; r < 3; ++r) {
+        // Rounding of sums of a few terms of size ~10.
+        EXPECT_NEAR(j[0][r], mu[r], 1e-12);
+        EXPECT_NEAR(j[1][r], mv[r], 1e-12);
+        EXPECT_NEAR(j[2][r], e[r] / height, 1e-12);
+    }
+    // The §8 quad: tile coordinates are world x, y and the shell is H thick, so J is the identity.
+    const glm::dmat3 flat =
+        gl::gdmPrismJacobian({glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(1, 1, 0)},
+                             {glm::dvec3(0, 0, 0.25), glm::dvec3(1, 0, 0.25), glm::dvec3(1, 1, 0.25)},
+                             {glm::dvec2(0, 0), glm::dvec2(1, 0), glm::dvec2(1, 1)}, 0.25);
+    EXPECT_EQ(flat, glm::dmat3(1.0));
+    // Degenerate tile coordinates: determinant 0.
+    EXPECT_EQ(glm::determinant(gl::gdmPrismJacobian(base, top, {tile[0], tile[0], tile[1]}, height)), 0.0);
+}
+
+// The percentage of pixels hit in both whose shadows differ.
+double shadowDifference(const GdmSceneImages& a, const GdmSceneImages& b) {
+    int both = 0, differ = 0;
+    for (int y = 0; y < a.mask.height(); ++y)
+        for (int x = 0; x < a.mask.width(); ++x) {
+            if (a.mask.at(x, y) == 0.0f || b.mask.at(x, y) == 0.0f) continue;
+            ++both;
+            differ += a.shadow.at(x, y) != b.shadow.at(x, y);
+        }
+    return both == 0 ? 0.0 : 100.0 * differ / both;
+}
+
+TEST_F(GdmRendererGl, JacobianLightFrameIsTheWorldOneWhereTheTextureFrameIsWorld) {
+    const Gdm& gdm = weave().gdm;
+    gl::GdmRenderer renderer;
+    renderer.setGdm(gdm);
+    const Camera camera = viewAt(45.0);
+    auto both = [&](const Mesh& mesh, const PrismShellOptions& options, const Camera& view) {
+        renderer.setMesh(mesh, options);
+        renderer.setLightFrame(gl::GdmLightFrame::World);
+        const GdmSceneImages world = renderer.render(view, kLight, kSize, kSize);
+        renderer.setLightFrame(gl::GdmLightFrame::Jacobian);
+        const GdmSceneImages jacobian = renderer.render(view, kLight, kSize, kSize);
+        // The light frame only changes the shadow.
+        EXPECT_EQ(compareGdmScenes(world, jacobian, gdm.height, 1.0).hitMissDisagreePercent, 0.0);
+        return shadowDifference(world, jacobian);
+    };
+    // The §8 quad: J = I, the same direction to float rounding (a pixel may flip on the exit rule's edge).
+    EXPECT_LE(both(makeBuiltinMesh("quad"), {}, camera), 0.1);
+    // Tiling 2: the texture frame is world scaled by 2 in u, v and (T = H / 2) in w H alike: J = I / 2,
+    // the same direction once normalised.
+    PrismShellOptions twice;
+    twice.tiling = {2.0, 2.0};
+    EXPECT_LE(both(makeBuiltinMesh("quad"), twice, camera), 0.1);
+    // Tiling 2 x 1 stretches u alone: the light's direction in texture space changes, and so do shadows.
+    PrismShellOptions stretched;
+    stretched.tiling = {2.0, 1.0};
+    // Measured 0.93 % of the pixels (most shadow rays' outcomes do not change with a tilt of the light).
+    EXPECT_GT(both(makeBuiltinMesh("quad"), stretched, camera), 0.5);
+    // A curved base (a sphere at tiling 4): each prism's frame is tilted from world.
+    PrismShellOptions sphere;
+    sphere.tiling = {4.0, 4.0};
+    const Mesh ball = makeBuiltinMesh("sphere", {2});
+    const double curved = both(ball, sphere, frameCamera(meshBounds(ball), 1.0, 40.0));
+    // Measured 25 %: on the sphere's flanks the world direction is far from the texture frame's.
+    EXPECT_GT(curved, 10.0);
 }
 
 // Pixels the base covers and the shell does not: where a ray reaches the mesh without crossing the shell.

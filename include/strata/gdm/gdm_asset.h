@@ -11,6 +11,9 @@
 //   albedo.rgb8     optional: Nx x Ny x Nz x 3 bytes, x fastest, sRGB-encoded RGB of the part nearest to
 //                   each voxel centre (Mesostructure::sample), for the built-ins.
 //   raw.f32         optional: the raw GDM, Gdm::values in Gdm::valueIndex order, kGdmMiss as +inf.
+//   distance.f32    optional: Nx x Ny x Nz float32, x fastest: the signed distance to the solid at each voxel
+//                   centre in tile widths, negative inside (bakeGdmDistance, gdm_distance.h), for the GL
+//                   renderer's refine technique. `strata gdm bake` writes it; older assets read without it.
 //   solid.obj       optional: the solid mesh the GDM was baked from, as baked (CONVENTIONS §8 tile units,
 //                   solidObjText of solid_mesh_io.h: every float reads back exactly), for the exact reference
 //                   of the GDM verification scene (renderGdmReference). `strata gdm bake` always writes it.
@@ -48,6 +51,7 @@ struct GdmAsset {
     std::optional<Gdm> raw;               // the raw GDM, when kept (same dims and H)
     std::vector<std::uint8_t> occupancy;  // Nx Ny Nz, x fastest; 1 inside the solid, 0 outside
     std::vector<std::uint8_t> albedo;     // Nx Ny Nz x RGB, x fastest, sRGB 8-bit; empty: none
+    std::vector<float> distance;          // Nx Ny Nz, x fastest; signed distance, tile widths; empty: none
     std::optional<SolidMesh> solid;       // the solid as baked (its height is the SVD's H); none: not stored
     std::string source;                   // where the solid came from: "meso weave", an OBJ path
     GdmBakeInfo bake;
@@ -63,7 +67,8 @@ std::vector<std::uint8_t> mesostructureAlbedo(const Mesostructure& meso, const G
 // Writes `asset` to the directory `dir`, atomically: every file is staged in a sibling directory first, then
 // renamed into `dir` (created if needed), gdm.json last; any failure leaves `dir` as it was. Throws
 // Error(InvalidInput) for an asset whose parts disagree (payload sizes, raw dims, a solid whose H is not the
-// SVD's) or a solid that validateSolidMesh refuses (it could not be read back), Error(Io) when `dir`
+// SVD's, a distance volume of another size or with a value that is not finite) or a solid that
+// validateSolidMesh refuses (it could not be read back), Error(Io) when `dir`
 // exists and is not a directory, exists and is neither empty nor a GDM asset (it is never overwritten), is
 // one of `inputs`, or cannot be written.
 void writeGdmAsset(const std::filesystem::path& dir, const GdmAsset& asset,
@@ -73,7 +78,8 @@ void writeGdmAsset(const std::filesystem::path& dir, const GdmAsset& asset,
 // Error(InvalidInput) naming the file and key for a sidecar that is not valid JSON, another format, an
 // unknown version, a key missing, unknown or of the wrong type or range, a payload whose size is not the
 // one its shape (for solid.obj: the sidecar's "bytes") needs, or a solid.obj that readSolidObj would refuse
-// (naming solid.obj, the line or the element). An asset without solid.obj (older ones) reads with no solid.
+// (naming solid.obj, the line or the element). An asset without solid.obj (older ones) reads with no solid;
+// one without distance.f32 with an empty distance volume.
 GdmAsset readGdmAsset(const std::filesystem::path& dir);
 
 // True when `dir` is a directory holding a gdm.json whose "format" is "strata.gdm". Never throws.

@@ -20,8 +20,11 @@
 #include "strata/mesh/mesh.h"
 #include "strata/scene/camera.h"
 
+#include <glm/mat3x3.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -51,12 +54,32 @@ enum class PrismFaces { Base, Shell };
 // How a prism finds its hit along the segment T_in -> T_out (issue 18):
 enum class GdmTechnique {
     Gdm,     // the paper's: one GDM lookup d(T_in, V), a hit if d < dt. Default.
-    Refine,  // the lookup, then the occupancy volume's 0.5 crossing within two voxels of it, sampled every
-             // quarter voxel (linear between samples); the lookup's answer where there is none. Misses stay.
+    Refine,  // not the paper's: with the signed distance volume (setDistance), sphere tracing on its
+             // trilinear interpolation from T_in to T_out (steps of 0.9 times the distance, at least 0.1
+             // voxel), the first zero crossing polished by 6 steps of regula falsi; the lookup's misses are
+             // traced as its hits are. After 96 steps (a ray grazing a surface) the GDM lookup from there
+             // answers. Without the distance volume: the lookup, then the occupancy volume's 0.5 crossing
+             // within two voxels of it, sampled every quarter voxel (linear between samples); misses stay.
     March,   // no GDM: the occupancy volume sampled every voxel (H / Nz) from T_in to T_out, the first 0.5
              // crossing (linear between samples). Its cost grows with the depth resolution: the baseline of
              // the paper's comparison with slice-based rendering.
 };
+
+// How the shadow lookup takes the direction to the light into texture space (issue 18, "Local shadows"):
+enum class GdmLightFrame {
+    World,     // the world direction as the texture-space one (the paper's approximation, Sec. 3.2). Default.
+    Jacobian,  // the world direction mapped by J^-1, J the prism's own Jacobian (gdmPrismJacobian);
+               // normalised
+};
+
+// The Jacobian of a prism's map from the isotropic texture frame (u, v, w H) to world, taken as affine: its
+// columns are dP/du and dP/dv of the base triangle (from its corners' world positions `base` and tile
+// coordinates `tile`, tiling * uv) and the mean of the three extrusions (top - base) divided by `height`
+// (H). Where the flat quad's texture frame is world (tiling 1, T = H) it is the identity. Returns a matrix
+// whose determinant is 0 for a triangle whose tile coordinates are degenerate (GdmRenderer then keeps the
+// world direction for that prism).
+glm::dmat3 gdmPrismJacobian(const std::array<glm::dvec3, 3>& base, const std::array<glm::dvec3, 3>& top,
+                            const std::array<glm::dvec2, 3>& tile, double height);
 
 // The renderer behind the functions above, for drawing many pictures: the program is built once, the GDM
 // and the mesh's shell are uploaded once (storage buffers), and each render() draws and reads back. Needs
@@ -76,8 +99,11 @@ public:
     // Error(InvalidInput) before setGdm, and as buildPrismShell.
     void setMesh(const Mesh& mesh, const PrismShellOptions& shell);
 
-    // Refine and March need the occupancy volume (setVolumes); the shadow is the GDM lookup's in every
-    // technique.
+    // Refine and March need the occupancy volume (setVolumes); Refine uses the distance volume instead
+    // where there is one (setDistance). The shadow is the GDM lookup's (towards the light in the frame of
+    // setLightFrame), except Refine's on the distance volume: lit iff the distance's gradient faces the light
+    // and sphere tracing from a quarter voxel off the surface towards it meets no zero crossing before it
+    // leaves the slab 0 <= w <= 1 (the GDM lookup from where it stops after 96 steps).
     GdmSceneImages render(const Camera& camera, glm::dvec3 light, int width, int height,
                           GdmDirectionLookup directions = GdmDirectionLookup::Nearest,
                           GdmTechnique technique = GdmTechnique::Gdm);
@@ -85,10 +111,22 @@ public:
     // The volumes for shading (GdmAsset's occupancy and, optional, sRGB albedo; x fastest, §8), for the
     // GDM set last. Throws Error(InvalidInput) before setGdm or for sizes that are not the GDM's voxels.
     void setVolumes(const std::vector<std::uint8_t>& occupancy, const std::vector<std::uint8_t>& albedo);
-    // A shaded picture: linear RGB and alpha 1 on a hit, all 0 elsewhere. The normal is the occupancy's
-    // gradient at the hit (central differences one voxel apart), taken to world space by the mesh's
-    // interpolated tangent frame; the albedo is the nearest voxel's (0.7 grey without one); Blinn-Phong from
-    // the point light, with the local shadow of render(). Throws Error(InvalidInput) without the volumes.
+    // The signed distance volume (GdmAsset::distance, bakeGdmDistance: tile widths, negative inside, x
+    // fastest) for the GDM set last; an empty one forgets it. Throws Error(InvalidInput) before setGdm or for
+    // a size that is not the GDM's voxels. setGdm forgets it.
+    void setDistance(const std::vector<float>& distance);
+    // The same on a grid of its own, `size` voxels (Nx, Ny, Nz >= 1; §8 sampling in the same tile and H),
+    // e.g. finer than the GDM's (bakeGdmDistance at those dims). Throws as above for a size that is not
+    // distance.size().
+    void setDistance(const std::vector<float>& distance, glm::ivec3 size);
+    // The frame of the shadow lookup's light direction; World until set. Kept across setGdm and setMesh.
+    void setLightFrame(GdmLightFrame frame);
+
+    // A shaded picture: linear RGB and alpha 1 on a hit, all 0 elsewhere. The normal is the signed
+    // distance's gradient where there is one (setDistance), else minus the occupancy's, at the hit (central
+    // differences one voxel apart), taken to world space by the mesh's interpolated tangent frame; the albedo
+    // is the nearest voxel's (0.7 grey without one); Blinn-Phong from the point light, with the local shadow
+    // of render(). Throws Error(InvalidInput) without the occupancy volume (setVolumes).
     Image renderShaded(const Camera& camera, glm::dvec3 light, int width, int height,
                        GdmDirectionLookup directions = GdmDirectionLookup::Nearest,
                        GdmTechnique technique = GdmTechnique::Gdm);
