@@ -25,8 +25,8 @@
 
 namespace {
 
-constexpr const char* kScenes[] = {"gdm_torus_chain", "gdm_vase_grid", "gdm_teapot_weave", "gdm_sphere_scales",
-                                   "gdm_patch_weave"};
+constexpr const char* kScenes[] = {"gdm_torus_chain", "gdm_vase_grid", "gdm_teapot_weave",
+                                   "gdm_sphere_scales", "gdm_patch_weave"};
 
 strata::gl::HeadlessContext& context() {
     static const auto made = strata::gl::HeadlessContext::create();
@@ -44,7 +44,8 @@ const Loaded& loaded(const std::string& name) {
     auto& slot = cache[name];
     if (!slot) {
         slot = std::make_unique<Loaded>();
-        slot->scene = strata::readScene(std::string(STRATA_SOURCE_DIR) + "/examples/scenes/" + name + ".json");
+        slot->scene =
+            strata::readScene(std::string(STRATA_SOURCE_DIR) + "/examples/scenes/" + name + ".json");
         slot->mesh = strata::loadSceneMesh(slot->scene);
         slot->gdm = strata::loadSceneGdm(slot->scene);
     }
@@ -54,17 +55,8 @@ const Loaded& loaded(const std::string& name) {
 void frame(benchmark::State& state, const std::string& name, strata::GdmTechnique technique) {
     context();
     const Loaded& l = loaded(name);
-    strata::PrismShellOptions shell;
-    shell.height = l.gdm.asset.svd.height;
-    shell.tiling = glm::dvec2(l.scene.relief.tiling);
-    shell.thickness = l.scene.gdm.shellThickness;
     strata::gl::GdmRenderer renderer;
-    if (l.gdm.raw)
-        renderer.setGdm(*l.gdm.asset.raw);
-    else
-        renderer.setGdm(l.gdm.svd);
-    renderer.setMesh(l.mesh, shell);
-    renderer.setVolumes(l.gdm.asset.occupancy, l.gdm.asset.albedo);
+    const strata::PrismShellOptions shell = strata::gl::prepareGdmRenderer(renderer, l.gdm, l.mesh, l.scene);
     strata::PictureSettings picture = l.scene.picture;
     picture.width = picture.height = 512;
     picture.samples = 1;
@@ -75,11 +67,12 @@ void frame(benchmark::State& state, const std::string& name, strata::GdmTechniqu
         benchmark::DoNotOptimize(image.row(0));
     }
     const strata::PrismShell prisms = strata::buildPrismShell(l.mesh, shell);
-    const double gdmBytes = l.gdm.raw ? double(l.gdm.asset.raw->values.size() * sizeof(float))
-                                      : double(l.gdm.svd.mapBytes());
+    const double gdmBytes =
+        l.gdm.raw ? double(l.gdm.asset.raw->values.size() * sizeof(float)) : double(l.gdm.svd.mapBytes());
     // The shell's buffer: 48 vec4 per prism (gdm_renderer.cpp); the volumes: occupancy as one float per
     // voxel, albedo three (linear).
-    const double volumeBytes = double(l.gdm.asset.occupancy.size()) * 4.0 * (l.gdm.asset.albedo.empty() ? 1 : 4);
+    const double volumeBytes =
+        double(l.gdm.asset.occupancy.size()) * 4.0 * (l.gdm.asset.albedo.empty() ? 1 : 4);
     const double shellBytes = double(prisms.prisms.size()) * 48.0 * 16.0;
     state.counters["gpu_MiB"] = (gdmBytes + volumeBytes + shellBytes) / double(1 << 20);
     state.counters["prisms"] = double(prisms.prisms.size());
@@ -92,8 +85,8 @@ int main(int argc, char** argv) {
     for (const char* name : kScenes)
         for (const auto technique :
              {strata::GdmTechnique::Gdm, strata::GdmTechnique::Refine, strata::GdmTechnique::March})
-            benchmark::RegisterBenchmark((std::string(name) + "/" + strata::toString(technique)).c_str(), frame,
-                                         std::string(name), technique)
+            benchmark::RegisterBenchmark((std::string(name) + "/" + strata::toString(technique)).c_str(),
+                                         frame, std::string(name), technique)
                 ->Unit(benchmark::kMillisecond)
                 ->UseRealTime();
     benchmark::Initialize(&argc, argv);

@@ -60,6 +60,7 @@ struct GdmTraceOptions {
     double tiling = 1.0;              // tiles per uv unit on --mesh
     std::optional<double> thickness;  // T in world units on --mesh; default H times a tile's world length
     std::string technique;            // --gl only: gdm (default) | refine | march
+    std::string lightFrame;           // --gl only: world (default) | jacobian
     std::string gdm;                  // svd (default) | raw; empty: not given
     std::string lookup;               // nearest (default) | bilinear; empty: not given
     fs::path file;
@@ -117,6 +118,11 @@ void runGdmTrace(const GdmTraceOptions& options) {
                                           formatNumber(*options.thickness));
     if (!options.technique.empty() && !options.gl)
         throw Error(ErrorKind::Usage, "gdm trace: --technique is the OpenGL renderer's: give --gl with it");
+    if (!options.lightFrame.empty() && !options.gl)
+        throw Error(ErrorKind::Usage, "gdm trace: --light-frame is the OpenGL renderer's: give --gl with it");
+    if (!options.lightFrame.empty() && options.lightFrame != "world" && options.lightFrame != "jacobian")
+        throw Error(ErrorKind::Usage,
+                    "gdm trace: --light-frame must be world or jacobian, got \"" + options.lightFrame + "\"");
     const std::string techniqueName = options.technique.empty() ? "gdm" : options.technique;
     if (techniqueName != "gdm" && techniqueName != "refine" && techniqueName != "march")
         throw Error(ErrorKind::Usage,
@@ -191,6 +197,8 @@ void runGdmTrace(const GdmTraceOptions& options) {
         gl::GdmRenderer renderer;
         renderer.setGdm(gdm);
         renderer.setMesh(mesh ? *mesh : makeBuiltinMesh("quad"), shell);
+        if (options.lightFrame == "jacobian") renderer.setLightFrame(GdmLightFrame::Jacobian);
+        if (!mesh) renderer.setBaseEntry(false);  // §8: a ray entering the box through its bottom is a miss
         if (output == TraceOutput::Shaded || technique != gl::GdmTechnique::Gdm) {
             renderer.setVolumes(asset.occupancy, asset.albedo);
             renderer.setDistance(asset.distance);  // none in older assets: refine reads the occupancy
@@ -306,6 +314,10 @@ void addGdmTraceCommand(CLI::App& gdm) {
         "With --gl: gdm (the paper's lookup, default), refine (sphere tracing on the asset's distance "
         "volume; without one, the occupancy near the hit) or "
         "march (the occupancy every voxel, no GDM)");
+    command->add_option(
+        "--light-frame", options->lightFrame,
+        "With --gl: the shadow lookup's light direction in texture space, world (the paper's, "
+        "default) or jacobian (mapped by each prism's own Jacobian)");
     command->add_option("--lookup", options->lookup,
                         "Direction lookup of the emulation: nearest (default) or bilinear");
     command->add_option("-o,--out", options->file, "Output PNG");

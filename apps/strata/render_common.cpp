@@ -126,6 +126,12 @@ void addSceneFlags(CLI::App& command, SceneFlags& f) {
     command.add_option("--gdm-rank", f.gdmRank,
                        "With --gdm: the SVD terms the lookups read (default: all the asset stores, 8 for a "
                        "built-in), or raw (the raw GDM)");
+    command
+        .add_option(
+            "--gdm-light-frame", f.gdmLightFrame,
+            "With --gdm: the shadow lookup's light direction in texture space: world (the paper's) or "
+            "jacobian (mapped by each prism's own Jacobian)")
+        ->check(CLI::IsMember({"world", "jacobian"}));
     command.add_option("--shell-thickness", f.shellThickness,
                        "With --gdm: the prism shell's thickness T in world units (default: H times the world "
                        "length of one tile)");
@@ -183,6 +189,7 @@ Scene buildScene(const SceneFlags& f) {
         }
     }
     if (f.shellThickness) gdm.shellThickness = *f.shellThickness;
+    if (!f.gdmLightFrame.empty()) gdm.lightFrame = parseGdmLightFrame(f.gdmLightFrame);
     if (!gdm.source.empty() && (!f.material.empty() || !scene.depthMap.empty()))
         throw Error(
             ErrorKind::Usage,

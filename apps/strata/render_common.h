@@ -43,6 +43,7 @@ struct SceneFlags {
     std::string gdmTechnique;
     std::string gdmRank;  // K or raw
     std::optional<double> shellThickness;
+    std::string gdmLightFrame;  // world | jacobian
 };
 
 // A vector flag such as --eye 0.5,-1,1: three finite numbers separated by commas. Throws Error(Usage)

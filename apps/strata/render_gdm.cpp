@@ -25,19 +25,9 @@ std::vector<RenderedScene> renderGdmScene(const Scene& scene, const std::vector<
     const Mesh mesh = loadSceneMesh(scene);
     const SceneGdm gdm = loadSceneGdm(scene, [](const std::string& m) { progress(m); });
 
-    PrismShellOptions shell;
-    shell.height = gdm.asset.svd.height;
-    shell.tiling = glm::dvec2(scene.relief.tiling);
-    shell.thickness = scene.gdm.shellThickness;
-    const PrismShell prisms = buildPrismShell(mesh, shell);
-
     gl::GdmRenderer renderer;
-    if (gdm.raw)
-        renderer.setGdm(*gdm.asset.raw);
-    else
-        renderer.setGdm(gdm.svd);
-    renderer.setMesh(mesh, shell);
-    renderer.setVolumes(gdm.asset.occupancy, gdm.asset.albedo);
+    const PrismShellOptions shell = gl::prepareGdmRenderer(renderer, gdm, mesh, scene);
+    const PrismShell prisms = buildPrismShell(mesh, shell);
 
     // Framed on the shell's bounds, which hold everything the GDM can draw.
     Bounds bounds = meshBounds(mesh);
@@ -54,7 +44,8 @@ std::vector<RenderedScene> renderGdmScene(const Scene& scene, const std::vector<
         RenderedScene result;
         result.image = gl::renderGdmPicture(renderer, camera, scene.lighting, scene.picture, technique);
         std::ostringstream summary;
-        summary << mesh.name << ", GDM " << gdm.description << ", " << toString(technique) << ", tiling "
+        summary << mesh.name << ", GDM " << gdm.description << ", " << toString(technique)
+                << (scene.gdm.lightFrame == GdmLightFrame::Jacobian ? ", Jacobian light" : "") << ", tiling "
                 << formatNumber(scene.relief.tiling) << ", T = " << formatNumber(prisms.thickness) << ", "
                 << scene.picture.width << "x" << scene.picture.height;
         if (scene.picture.output != RenderOutput::Shaded)

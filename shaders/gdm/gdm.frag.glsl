@@ -56,6 +56,10 @@ layout(std430, binding = 7) readonly buffer PrismLightFrames { vec4 lightFrames[
 uniform mat4 uViewProjection;
 uniform vec3 uEye;
 uniform vec3 uLight;
+uniform vec3 uLightColor;  // the shaded output's Blinn-Phong terms, as the relief renderer's
+uniform float uAmbient;
+uniform float uSpecular;
+uniform float uShininess;
 uniform int uOutput;       // 0 uvw, 1 shadow, 2 the prism's id + 1 (the crack test), 3 shaded
 uniform bool uHasAlbedo;
 uniform int uTechnique;    // 0 gdm: the paper's lookup; 1 refine (see main); 2 march
@@ -237,10 +241,12 @@ vec3 shade(vec3 texturePoint, vec3 worldPoint, vec3 direction, bool lit) {
         int v = voxelIndex(i, j, k);
         colour = vec3(albedo[3 * v], albedo[3 * v + 1], albedo[3 * v + 2]);
     }
+    // Blinn-Phong as the relief renderer's (shaders/relief/relief.frag.glsl).
     float diffuse = max(dot(world, toLight), 0.0);
-    float specular = pow(max(dot(world, normalize(toLight + toEye)), 0.0), 32.0);
-    float light = lit ? 1.0 : 0.0;
-    return colour * (0.2 + 0.8 * diffuse * light) + vec3(0.15 * specular * light);
+    float specular = diffuse > 0.0 ? uSpecular * pow(max(dot(world, normalize(toLight + toEye)), 0.0), uShininess) : 0.0;
+    vec3 result = uAmbient * colour;
+    if (lit) result += uLightColor * (diffuse * colour + specular);
+    return result;
 }
 
 // The first point along the segment T_in + s V, 0 <= s < dt, where the occupancy volume reaches 0.5,

@@ -2,6 +2,7 @@
 
 #include "strata/core/error.h"
 #include "strata/gdm/gdm_bake.h"
+#include "strata/gdm/gdm_distance.h"
 #include "strata/gdm/mesostructure.h"
 #include "strata/gdm/mesostructure_mesh.h"
 
@@ -40,6 +41,8 @@ GdmAsset bakeBuiltin(const std::string& name, const SceneProgress& progress) {
     asset.svd = compressGdm(raw, kSceneGdmDefaultRank);
     asset.occupancy = gdmOccupancy(raw);
     asset.albedo = mesostructureAlbedo(meso, dims);
+    if (progress) progress("signed distance");
+    asset.distance = bakeGdmDistance(solid, dims);
     asset.raw = std::move(raw);
     asset.solid = std::move(solid);
     asset.source = "meso " + name;

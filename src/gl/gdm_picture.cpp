@@ -12,18 +12,6 @@
 
 namespace strata::gl {
 
-GdmTechnique toGlTechnique(strata::GdmTechnique technique) {
-    switch (technique) {
-        case strata::GdmTechnique::Gdm:
-            return GdmTechnique::Gdm;
-        case strata::GdmTechnique::Refine:
-            return GdmTechnique::Refine;
-        case strata::GdmTechnique::March:
-            return GdmTechnique::March;
-    }
-    return GdmTechnique::Gdm;
-}
-
 namespace {
 
 // k of the k x k grid, limited so that the supersampled picture fits the driver's renderbuffers (as the
@@ -38,18 +26,35 @@ int supersamplingFactor(const PictureSettings& picture) {
 
 }  // namespace
 
+PrismShellOptions prepareGdmRenderer(GdmRenderer& renderer, const SceneGdm& gdm, const Mesh& mesh,
+                                     const Scene& scene) {
+    if (gdm.raw)
+        renderer.setGdm(*gdm.asset.raw);
+    else
+        renderer.setGdm(gdm.svd);
+    PrismShellOptions shell;
+    shell.height = gdm.asset.svd.height;
+    shell.tiling = glm::dvec2(scene.relief.tiling);
+    shell.thickness = scene.gdm.shellThickness;
+    renderer.setMesh(mesh, shell);
+    renderer.setVolumes(gdm.asset.occupancy, gdm.asset.albedo);
+    if (!gdm.asset.distance.empty()) renderer.setDistance(gdm.asset.distance);
+    renderer.setLightFrame(scene.gdm.lightFrame);
+    renderer.setLighting(scene.lighting);
+    return shell;
+}
+
 Image renderGdmPicture(GdmRenderer& renderer, const Camera& camera, const Lighting& lighting,
-                       const PictureSettings& picture, strata::GdmTechnique technique) {
+                       const PictureSettings& picture, GdmTechnique technique) {
     validate(picture);
     if (std::find(std::begin(kGdmOutputs), std::end(kGdmOutputs), picture.output) == std::end(kGdmOutputs))
         throw Error(ErrorKind::InvalidInput,
                     std::string("GDM picture: output ") + toString(picture.output) +
                         " is a relief output (a GDM render draws shaded, uvw, shadow "
                         "or mask)");
-    const GdmTechnique glTechnique = toGlTechnique(technique);
     if (picture.output != RenderOutput::Shaded) {
         GdmSceneImages images = renderer.render(camera, lighting.lightPosition, picture.width, picture.height,
-                                                GdmDirectionLookup::Nearest, glTechnique);
+                                                GdmDirectionLookup::Nearest, technique);
         return picture.output == RenderOutput::Uvw      ? std::move(images.uvw)
                : picture.output == RenderOutput::Shadow ? std::move(images.shadow)
                                                         : std::move(images.mask);
@@ -57,7 +62,7 @@ Image renderGdmPicture(GdmRenderer& renderer, const Camera& camera, const Lighti
     const int factor = supersamplingFactor(picture);
     const Image shaded =
         renderer.renderShaded(camera, lighting.lightPosition, picture.width * factor, picture.height * factor,
-                              GdmDirectionLookup::Nearest, glTechnique);
+                              GdmDirectionLookup::Nearest, technique);
     // Linear colour with coverage in alpha: composited over the background in linear, then box-filtered.
     glm::dvec3 background;
     for (int c = 0; c < 3; ++c) background[c] = srgbToLinear(picture.background[c]);

@@ -81,12 +81,17 @@ struct GdmRenderer::Impl {
     bool hasDistance = false;
     glm::ivec3 distanceVoxels{1};
     GdmLightFrame lightFrame = GdmLightFrame::World;
+    Lighting lighting;  // colour, ambient, specular and shininess of the shaded picture
     // The mesh's shell: entry faces (tops and fins) and base faces to draw, every prism's 8 triangles for
     // the exit search, and the shell's bounds.
     bool hasMesh = false;
     Buffer entryVertices, baseVertices, faces;
     Buffer lightFrames;  // per prism, the rows of J^-1 (gdmPrismJacobian) as 3 vec4
-    GLsizei entryCount = 0, baseCount = 0;
+    // The entry array holds the tops and fins, then the base faces turned to face down (entries from below);
+    // entryCount counts the first part only.
+    GLsizei entryCount = 0, baseCount = 0, belowCount = 0;
+    bool baseEntry = true;
+    GLsizei entryDrawCount() const { return entryCount + (baseEntry ? belowCount : 0); }
     VertexArray entryArray, baseArray;
     glm::dvec3 lo{0.0}, hi{0.0};
 
@@ -148,6 +153,11 @@ struct GdmRenderer::Impl {
         glUniform3i(program.uniformLocation("uDistanceVoxels"), distanceVoxels.x, distanceVoxels.y,
                     distanceVoxels.z);
         glUniform1i(program.uniformLocation("uJacobianLight"), lightFrame == GdmLightFrame::Jacobian ? 1 : 0);
+        glUniform3f(program.uniformLocation("uLightColor"), float(lighting.lightColor.r),
+                    float(lighting.lightColor.g), float(lighting.lightColor.b));
+        glUniform1f(program.uniformLocation("uAmbient"), float(lighting.ambient));
+        glUniform1f(program.uniformLocation("uSpecular"), float(lighting.specular));
+        glUniform1f(program.uniformLocation("uShininess"), float(lighting.shininess));
         glUniform1i(program.uniformLocation("uTechnique"), technique == GdmTechnique::Gdm      ? 0
                                                            : technique == GdmTechnique::Refine ? 1
                                                                                                : 2);
@@ -288,6 +298,11 @@ void GdmRenderer::setMesh(const Mesh& mesh, const PrismShellOptions& shellOption
                 (f == 0 ? base : entry).push_back(vertex);
             }
     }
+    // The base faces, turned over: the faces a ray coming through the base surface from below (the base is
+    // not solid, §8) enters a prism through.
+    const std::size_t tops = entry.size();
+    for (std::size_t v = 0; v < base.size(); v += 3)
+        entry.insert(entry.end(), {base[v], base[v + 2], base[v + 1]});
     mImpl->entryVertices.store(entry);
     mImpl->baseVertices.store(base);
     mImpl->faces.store(faces);
@@ -295,7 +310,8 @@ void GdmRenderer::setMesh(const Mesh& mesh, const PrismShellOptions& shellOption
     Impl::describe(mImpl->entryArray, mImpl->entryVertices);
     Impl::describe(mImpl->baseArray, mImpl->baseVertices);
     checkGl("GdmRenderer: uploading the shell");
-    mImpl->entryCount = GLsizei(entry.size());
+    mImpl->entryCount = GLsizei(tops);
+    mImpl->belowCount = GLsizei(entry.size() - tops);
     mImpl->baseCount = GLsizei(base.size());
     mImpl->lo = lo;
     mImpl->hi = hi;
@@ -316,8 +332,9 @@ GdmSceneImages GdmRenderer::render(const Camera& camera, glm::dvec3 light, int w
     mImpl->target.ensure(width, height, GL_RGBA32F, "GdmRenderer");
     GdmSceneImages images{Image(width, height, 4), Image(width, height, 1), Image(width, height, 1)};
     for (int output = 0; output < 2; ++output) {
-        const std::vector<float> pixels = mImpl->draw(mImpl->entryArray, mImpl->entryCount, output, true,
-                                                      camera, light, width, height, directions, technique);
+        const std::vector<float> pixels =
+            mImpl->draw(mImpl->entryArray, mImpl->entryDrawCount(), output, true, camera, light, width,
+                        height, directions, technique);
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
                 const float* p = pixels.data() + (std::size_t(y) * std::size_t(width) + std::size_t(x)) * 4;
@@ -377,6 +394,15 @@ void GdmRenderer::setLightFrame(GdmLightFrame frame) {
     mImpl->lightFrame = frame;
 }
 
+void GdmRenderer::setBaseEntry(bool enabled) {
+    mImpl->baseEntry = enabled;
+}
+
+void GdmRenderer::setLighting(const Lighting& lighting) {
+    validate(lighting);
+    mImpl->lighting = lighting;
+}
+
 Image GdmRenderer::renderShaded(const Camera& camera, glm::dvec3 light, int width, int height,
                                 GdmDirectionLookup directions, GdmTechnique technique) {
     validateCamera(camera);
@@ -386,7 +412,7 @@ Image GdmRenderer::renderShaded(const Camera& camera, glm::dvec3 light, int widt
         throw Error(ErrorKind::InvalidInput, "GdmRenderer: shading needs the occupancy volume (setVolumes)");
     const BindingGuard guard;
     mImpl->target.ensure(width, height, GL_RGBA32F, "GdmRenderer");
-    const std::vector<float> pixels = mImpl->draw(mImpl->entryArray, mImpl->entryCount, 3, true, camera,
+    const std::vector<float> pixels = mImpl->draw(mImpl->entryArray, mImpl->entryDrawCount(), 3, true, camera,
                                                   light, width, height, directions, technique);
     Image image(width, height, 4);
     std::copy(pixels.begin(), pixels.end(), image.row(0));
@@ -430,12 +456,13 @@ namespace {
 template <class Source>
 GdmSceneImages renderOnce(const Source& source, const Mesh& mesh, const PrismShellOptions& shell,
                           const Camera& camera, glm::dvec3 light, int width, int height,
-                          GdmDirectionLookup directions) {
+                          GdmDirectionLookup directions, bool baseEntry) {
     validateCamera(camera);
     validateGdmPicture(width, height);
     GdmRenderer renderer;
     renderer.setGdm(source);
     renderer.setMesh(mesh, shell);
+    renderer.setBaseEntry(baseEntry);
     return renderer.render(camera, light, width, height, directions);
 }
 
@@ -443,24 +470,24 @@ GdmSceneImages renderOnce(const Source& source, const Mesh& mesh, const PrismShe
 
 GdmSceneImages renderGdmScene(const Gdm& gdm, const Camera& camera, glm::dvec3 light, int width, int height,
                               GdmDirectionLookup directions) {
-    return renderOnce(gdm, makeBuiltinMesh("quad"), {}, camera, light, width, height, directions);
+    return renderOnce(gdm, makeBuiltinMesh("quad"), {}, camera, light, width, height, directions, false);
 }
 
 GdmSceneImages renderGdmScene(const GdmSvd& svd, const Camera& camera, glm::dvec3 light, int width,
                               int height, GdmDirectionLookup directions) {
-    return renderOnce(svd, makeBuiltinMesh("quad"), {}, camera, light, width, height, directions);
+    return renderOnce(svd, makeBuiltinMesh("quad"), {}, camera, light, width, height, directions, false);
 }
 
 GdmSceneImages renderGdmMesh(const Gdm& gdm, const Mesh& mesh, const PrismShellOptions& shell,
                              const Camera& camera, glm::dvec3 light, int width, int height,
                              GdmDirectionLookup directions) {
-    return renderOnce(gdm, mesh, shell, camera, light, width, height, directions);
+    return renderOnce(gdm, mesh, shell, camera, light, width, height, directions, true);
 }
 
 GdmSceneImages renderGdmMesh(const GdmSvd& svd, const Mesh& mesh, const PrismShellOptions& shell,
                              const Camera& camera, glm::dvec3 light, int width, int height,
                              GdmDirectionLookup directions) {
-    return renderOnce(svd, mesh, shell, camera, light, width, height, directions);
+    return renderOnce(svd, mesh, shell, camera, light, width, height, directions, true);
 }
 
 }  // namespace strata::gl

@@ -72,6 +72,16 @@ const char* toString(GdmTechnique technique) {
     return "?";
 }
 
+const char* toString(GdmLightFrame frame) {
+    switch (frame) {
+        case GdmLightFrame::World:
+            return "world";
+        case GdmLightFrame::Jacobian:
+            return "jacobian";
+    }
+    return "?";
+}
+
 Technique parseTechnique(const std::string& text) {
     for (Technique t : kAllTechniques) {
         if (text == toString(t)) return t;
@@ -98,6 +108,14 @@ GdmTechnique parseGdmTechnique(const std::string& text) {
     }
     throw Error(ErrorKind::InvalidInput,
                 "unknown GDM technique '" + text + "' (expected gdm, refine or march)");
+}
+
+GdmLightFrame parseGdmLightFrame(const std::string& text) {
+    for (GdmLightFrame f : {GdmLightFrame::World, GdmLightFrame::Jacobian}) {
+        if (text == toString(f)) return f;
+    }
+    throw Error(ErrorKind::InvalidInput,
+                "unknown GDM light frame '" + text + "' (expected world or jacobian)");
 }
 
 int parseGdmRank(const std::string& text) {
@@ -179,9 +197,12 @@ void validate(const GdmSettings& gdm, const PictureSettings& picture) {
                         (isGdm ? " is a relief output; a GDM render draws shaded, uvw, shadow or mask"
                                : " is a GDM output (give a gdm); a relief render draws shaded, uv, shadow or "
                                  "depth"));
-    if (!isGdm && (gdm.technique != GdmTechnique::Gdm || gdm.rank != 0 || gdm.shellThickness))
-        throw Error(ErrorKind::InvalidInput,
-                    "gdm_technique, gdm_rank and shell_thickness are for a GDM render: give a gdm");
+    if (!isGdm && (gdm.technique != GdmTechnique::Gdm || gdm.rank != 0 || gdm.shellThickness ||
+                   gdm.lightFrame != GdmLightFrame::World))
+        throw Error(
+            ErrorKind::InvalidInput,
+            "gdm_technique, gdm_rank, shell_thickness and gdm_light_frame are for a GDM render: give a "
+            "gdm");
 }
 
 }  // namespace strata

@@ -122,6 +122,7 @@ Scene parseScene(const json& document, const fs::path& source) {
         }
     }
     if (const auto t = reader.number("shell_thickness")) gdm.shellThickness = *t;
+    if (const auto f = readName(reader, "gdm_light_frame", parseGdmLightFrame)) gdm.lightFrame = *f;
 
     if (const json* cameraJson = reader.object("camera")) {
         ObjectReader cameraReader(*cameraJson, "camera", file);

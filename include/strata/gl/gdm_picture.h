@@ -5,20 +5,27 @@
 // values, one sample per pixel.
 #pragma once
 
+#include "strata/gdm/prism_shell.h"
+#include "strata/gdm/scene_gdm.h"
 #include "strata/gl/gdm_renderer.h"
 #include "strata/image/image.h"
 #include "strata/scene/camera.h"
 #include "strata/scene/render_settings.h"
+#include "strata/scene/scene.h"
 
 namespace strata::gl {
 
-// The renderer's technique for a scene's (the same three, by name).
-GdmTechnique toGlTechnique(strata::GdmTechnique technique);
+// Gives `renderer` what a scene draws: the GDM that `gdm` reads (raw or its SVD), its volumes (occupancy,
+// albedo, and the signed distance when the asset has one), `mesh`'s prism shell at the scene's tiling and
+// shell thickness (height: the GDM's H), the scene's light frame and lighting. Returns the shell's options.
+// Throws as the GdmRenderer setters.
+PrismShellOptions prepareGdmRenderer(GdmRenderer& renderer, const SceneGdm& gdm, const Mesh& mesh,
+                                     const Scene& scene);
 
 // Throws Error(InvalidInput) for an output that is not a GDM one (kGdmOutputs), and as GdmRenderer's render
 // and renderShaded (the volumes must be set for shaded and for refine and march).
 // Layout: shaded 3 channels sRGB; uvw 4 channels; shadow and mask 1 channel.
 Image renderGdmPicture(GdmRenderer& renderer, const Camera& camera, const Lighting& lighting,
-                       const PictureSettings& picture, strata::GdmTechnique technique);
+                       const PictureSettings& picture, GdmTechnique technique);
 
 }  // namespace strata::gl

@@ -19,6 +19,7 @@
 #include "strata/gdm/prism_shell.h"
 #include "strata/mesh/mesh.h"
 #include "strata/scene/camera.h"
+#include "strata/scene/render_settings.h"
 
 #include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
@@ -51,26 +52,24 @@ GdmSceneImages renderGdmMesh(const GdmSvd& svd, const Mesh& mesh, const PrismShe
 // Which faces GdmRenderer::renderPrismIds draws.
 enum class PrismFaces { Base, Shell };
 
-// How a prism finds its hit along the segment T_in -> T_out (issue 18):
-enum class GdmTechnique {
-    Gdm,     // the paper's: one GDM lookup d(T_in, V), a hit if d < dt. Default.
-    Refine,  // not the paper's: with the signed distance volume (setDistance), sphere tracing on its
-             // trilinear interpolation from T_in to T_out (steps of 0.9 times the distance, at least 0.1
-             // voxel), the first zero crossing polished by 6 steps of regula falsi; the lookup's misses are
-             // traced as its hits are. After 96 steps (a ray grazing a surface) the GDM lookup from there
-             // answers. Without the distance volume: the lookup, then the occupancy volume's 0.5 crossing
-             // within two voxels of it, sampled every quarter voxel (linear between samples); misses stay.
-    March,   // no GDM: the occupancy volume sampled every voxel (H / Nz) from T_in to T_out, the first 0.5
-             // crossing (linear between samples). Its cost grows with the depth resolution: the baseline of
-             // the paper's comparison with slice-based rendering.
-};
+// How a prism finds its hit along the segment T_in -> T_out (issue 18): the scene's GdmTechnique
+// (render_settings.h), which this renderer implements as
+//  Gdm     the paper's: one GDM lookup d(T_in, V), a hit if d < dt. Default.
+//  Refine  not the paper's: with the signed distance volume (setDistance), sphere tracing on its
+//          trilinear interpolation from T_in to T_out (steps of 0.9 times the distance, at least 0.1
+//          voxel), the first zero crossing polished by 6 steps of regula falsi; the lookup's misses are
+//          traced as its hits are. After 96 steps (a ray grazing a surface) the GDM lookup from there
+//          answers. Without the distance volume: the lookup, then the occupancy volume's 0.5 crossing
+//          within two voxels of it, sampled every quarter voxel (linear between samples); misses stay.
+//  March   no GDM: the occupancy volume sampled every voxel (H / Nz) from T_in to T_out, the first 0.5
+//          crossing (linear between samples). Its cost grows with the depth resolution: the baseline of
+//          the paper's comparison with slice-based rendering.
+using GdmTechnique = strata::GdmTechnique;
 
 // How the shadow lookup takes the direction to the light into texture space (issue 18, "Local shadows"):
-enum class GdmLightFrame {
-    World,     // the world direction as the texture-space one (the paper's approximation, Sec. 3.2). Default.
-    Jacobian,  // the world direction mapped by J^-1, J the prism's own Jacobian (gdmPrismJacobian);
-               // normalised
-};
+//  World     the world direction as the texture-space one (the paper's approximation, Sec. 3.2). Default.
+//  Jacobian  the world direction mapped by J^-1, J the prism's own Jacobian (gdmPrismJacobian); normalised.
+using GdmLightFrame = strata::GdmLightFrame;
 
 // The Jacobian of a prism's map from the isotropic texture frame (u, v, w H) to world, taken as affine: its
 // columns are dP/du and dP/dv of the base triangle (from its corners' world positions `base` and tile
@@ -121,6 +120,18 @@ public:
     void setDistance(const std::vector<float>& distance, glm::ivec3 size);
     // The frame of the shadow lookup's light direction; World until set. Kept across setGdm and setMesh.
     void setLightFrame(GdmLightFrame frame);
+    // The shaded picture's Blinn-Phong terms, as the relief renderer's (render_settings.h: ambient times the
+    // albedo; where lit, the light's colour times diffuse times the albedo plus specular); the light's
+    // position is render's argument. Default Lighting{}. Kept across setGdm and setMesh. Throws as
+    // validate(Lighting).
+    void setLighting(const Lighting& lighting);
+    // Whether a ray that comes through the base surface from below (from the mesh's inside, or from behind
+    // an open mesh: the base is not solid, §8) enters the prism there, so that the far side of a mesh shows
+    // through the holes of the near one, as the exact curved reference (gdm_mesh_reference.h) has it. Not
+    // the paper's (it enters prisms through their tops and fins). Default true; the §8 verification scene
+    // (renderGdmScene, `strata gdm trace`) turns it off: there a ray that enters the box through its bottom
+    // is a miss.
+    void setBaseEntry(bool enabled);
 
     // A shaded picture: linear RGB and alpha 1 on a hit, all 0 elsewhere. The normal is the signed
     // distance's gradient where there is one (setDistance), else minus the occupancy's, at the hit (central

@@ -83,6 +83,12 @@ enum class GdmTechnique {
     March,   // no GDM: the occupancy volume stepped every voxel (the paper's slice-based baseline)
 };
 
+// How a GDM render's shadow lookup takes the direction to the light into texture space:
+enum class GdmLightFrame {
+    World,     // the world direction as it is: the paper's approximation (Sec. 3.2). Default.
+    Jacobian,  // mapped by the inverse of each prism's own Jacobian from texture to world (not the paper's)
+};
+
 // A GDM render instead of a relief one (Wang et al. 2004, "Generalized Displacement Maps"): the
 // mesostructure drawn in the prism shell of the scene's mesh (CONVENTIONS §8). The tiling is
 // ReliefSettings::tiling; the lighting and the picture are the scene's.
@@ -96,6 +102,7 @@ struct GdmSettings {
     int rank = 0;
     // T, the shell's thickness in world units (> 0). nullopt: H times the world length of one tile (§8).
     std::optional<double> shellThickness;
+    GdmLightFrame lightFrame = GdmLightFrame::World;
 };
 inline constexpr int kGdmRankRaw = -1;
 
@@ -123,11 +130,13 @@ const char* toString(Technique technique);
 const char* toString(RenderOutput output);
 const char* toString(AoRescale rescale);
 const char* toString(GdmTechnique technique);
+const char* toString(GdmLightFrame frame);
 // Parse the names above; throw Error(InvalidInput) listing the valid names (callers add the key or flag).
 Technique parseTechnique(const std::string& text);
 RenderOutput parseRenderOutput(const std::string& text);
 AoRescale parseAoRescale(const std::string& text);
 GdmTechnique parseGdmTechnique(const std::string& text);
+GdmLightFrame parseGdmLightFrame(const std::string& text);
 // "raw" -> kGdmRankRaw, "K" -> K (an integer >= 1); throws Error(InvalidInput) otherwise.
 int parseGdmRank(const std::string& text);
 
