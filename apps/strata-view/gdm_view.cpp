@@ -61,9 +61,10 @@ GdmDescription describeGdm(const SceneGdm& gdm) {
     out.source = gdm.description.substr(0, gdm.description.rfind(", "));
     const GdmDims& d = asset.svd.dims;
     char dims[160];
-    std::snprintf(dims, sizeof(dims), "%d x %d x %d voxels, %d x %d directions, H %.3g", d.nx, d.ny, d.nz,
-                  d.ntheta, d.nphi, asset.svd.height);
+    std::snprintf(dims, sizeof(dims), "%d x %d x %d voxels, %d x %d directions", d.nx, d.ny, d.nz, d.ntheta,
+                  d.nphi);
     out.dims = dims;
+    out.height = asset.svd.height;
     out.storedRank = asset.svd.rank;
     out.hasRaw = asset.raw.has_value();
     out.svdMiB = mebibytes(asset.svd.mapBytes());

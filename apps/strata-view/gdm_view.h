@@ -73,10 +73,11 @@ PrismShell gdmShell(const SceneGdm& gdm, const Mesh& mesh, const GdmViewSettings
 // (they hold everything the GDM can draw).
 Bounds gdmFramingBounds(const Mesh& mesh, double thickness);
 
-// The panel's description of a loaded GDM, lines like "weave: 64 x 64 x 16 voxels, 16 x 32 directions".
+// The GDM panel's description of a loaded GDM.
 struct GdmDescription {
     std::string source;      // SceneGdm::description up to its rank: "meso weave (baked on the fly)", a path
-    std::string dims;        // "64 x 64 x 16 voxels, 16 x 32 directions, H 0.25"
+    std::string dims;        // "64 x 64 x 16 voxels, 16 x 32 directions"
+    double height = 0.0;     // H, tile widths
     int storedRank = 0;      // the asset's SVD rank
     bool hasRaw = false;     // whether rank "raw" is offered
     double svdMiB = 0.0;     // the stored SVD's maps (W and E, float)

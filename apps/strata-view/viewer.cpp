@@ -42,6 +42,8 @@ constexpr double kZoomPerWheelStep = 0.85;
 // GDM mode: how long the view must rest before the full picture replaces the smaller previews. A drag
 // sends a new camera every frame; a pause shorter than this still counts as moving.
 constexpr auto kGdmRestTime = std::chrono::milliseconds(400);
+// GDM mode: the longest the window waits for an event between frames (s), when nothing happens.
+constexpr double kGdmIdleFrame = 1.0 / 30.0;
 
 }  // namespace
 
@@ -449,7 +451,13 @@ void Viewer::run() {
     auto lastSwap = std::chrono::steady_clock::now();
     RollingMean screenshotFrames;  // frames after the first (which builds the shader programs)
     for (int frame = 0; !glfwWindowShouldClose(mWindow.handle()); ++frame) {
-        glfwPollEvents();
+        if (mGdm && !screenshotMode) {
+            // The window's frames only show the worker's last picture: wait for an event (or the worker's
+            // next picture, looked for every kGdmIdleFrame), rather than spin on the cores it draws with.
+            glfwWaitEventsTimeout(kGdmIdleFrame);
+        } else {
+            glfwPollEvents();
+        }
         int width = 0, height = 0;
         glfwGetFramebufferSize(mWindow.handle(), &width, &height);
         if (width <= 0 || height <= 0) {  // minimised

@@ -174,7 +174,7 @@ private:
     GdmDescription mGdmDescription;
     GdmViewSettings mGdmSettings;  // rank 1..stored or kGdmRankRaw
     int mGdmSamples = 1;           // per pixel, as PictureSettings::samples
-    int mGdmPreview = 2;           // while the view changes: pictures at 1 / this of the window's width
+    int mGdmPreview = 4;           // while the view changes: pictures at 1 / this of the window's width
     std::shared_ptr<const Mesh> mGdmMesh;  // mMesh, shared with the worker
     std::uint64_t mGdmMeshId = 0;
     PrismShell mGdmShell;  // the current settings' shell on mMesh (its T, tile length)

@@ -280,16 +280,16 @@ void Viewer::gdmPanel() {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
     ImGui::SetNextWindowPos(ImVec2(viewport->WorkSize.x - kPanelWidth - kMargin, kMargin),
                             ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(kPanelWidth, 0.0f), ImGuiCond_FirstUseEver);
-    fitToWindow();
-    if (!ImGui::Begin("GDM")) {
+    // Text only: it fits its lines, which change (the picture's, the drawing one).
+    if (!ImGui::Begin("GDM", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::End();
         return;
     }
     const GdmDescription& d = mGdmDescription;
-    ImGui::PushTextWrapPos(0.0f);
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + kPanelWidth - 16.0f);
     ImGui::TextUnformatted(d.source.c_str());
     ImGui::TextColored(kDimColor, "%s", d.dims.c_str());
+    ImGui::TextColored(kDimColor, "H = %.3g tile widths", d.height);
     const int rank = mGdmSettings.rank;
     if (rank == kGdmRankRaw) {
         ImGui::Text("raw GDM: %.1f MiB", d.rawMiB);
