@@ -33,7 +33,9 @@ void parseSize(const std::string& text, int& width, int& height) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"strata-view: interactive relief mapping and meta-relief editing (docs/viewer.md)"};
+    CLI::App app{
+        "strata-view: interactive relief mapping, meta-relief editing and generalized displacement maps "
+        "(docs/viewer.md)"};
     app.set_version_flag("--version", std::string("strata-view ") + strata::kVersion);
     app.footer(
         "Without a display, run it under a virtual one: xvfb-run -a strata-view --screenshot out.png\n"
@@ -48,8 +50,9 @@ int main(int argc, char** argv) {
     app.add_option("--scene", options.sceneFile,
                    "Scene JSON (docs/scenes.md): mesh, camera, light and relief settings to start from")
         ->check(CLI::ExistingFile);
-    app.add_option("--mesh", options.mesh,
-                   "Built-in mesh (teapot, cube, sphere, torus, cylinder, vase, patch, plane, quad) or a mesh file");
+    app.add_option(
+        "--mesh", options.mesh,
+        "Built-in mesh (teapot, cube, sphere, torus, cylinder, vase, patch, plane, quad) or a mesh file");
     app.add_option("--size", size, "Window size WxH (default 1280x720)");
     app.add_option("--resolution", options.resolution,
                    "Composition size while editing, in texels (default 512; saved materials keep theirs)")
@@ -64,6 +67,21 @@ int main(int argc, char** argv) {
                    "(its layers combined per fragment; weights change without a re-bake)")
         ->check(CLI::IsMember({"baked", "live"}));
     app.add_flag("--no-ui", options.hideUi, "Start with the panels hidden (H toggles them)");
+    app.add_option("--tiling", options.tiling, "Tiles per unit of mesh uv (default: the scene's, 1)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--gdm", options.gdm,
+                   "Show a generalized displacement map in the mesh's prism shell instead of a material: a "
+                   "GDM asset directory (strata gdm bake) or a built-in mesostructure (weave, chain, grid, "
+                   "scales, bark; baked on the fly), as strata render --gdm");
+    app.add_option("--gdm-technique", options.gdmTechnique,
+                   "With --gdm: gdm (the paper's lookup, default), refine or march")
+        ->check(CLI::IsMember({"gdm", "refine", "march"}));
+    app.add_option("--gdm-rank", options.gdmRank,
+                   "With --gdm: the SVD terms the lookups read (default: all the asset stores), or raw");
+    app.add_option("--shell-thickness", options.shellThickness,
+                   "With --gdm: the prism shell's thickness T in world units (default: H times the world "
+                   "length of one tile)")
+        ->check(CLI::PositiveNumber);
 
     try {
         app.parse(argc, argv);

@@ -1,9 +1,11 @@
 #include "viewer_app.h"
 
+#include "strata/core/check.h"
 #include "strata/core/error.h"
 #include "strata/core/file.h"
 #include "strata/gl/gl_error.h"
 #include "strata/image/image_io.h"
+#include "strata/image/quantize.h"
 
 // libepoxy resolves GL in whatever context is current (GLX here, EGL in the headless tools); GLFW must not
 // include a GL header of its own.
@@ -37,6 +39,11 @@ void glfwErrorCallback(int code, const char* message) {
 
 constexpr double kOrbitDegreesPerPixel = 0.35;
 constexpr double kZoomPerWheelStep = 0.85;
+// GDM mode: how long the view must rest before the full picture replaces the smaller previews. A drag
+// sends a new camera every frame; a pause shorter than this still counts as moving.
+constexpr auto kGdmRestTime = std::chrono::milliseconds(400);
+// GDM mode: the longest the window waits for an event between frames (s), when nothing happens.
+constexpr double kGdmIdleFrame = 1.0 / 30.0;
 
 }  // namespace
 
@@ -56,7 +63,9 @@ GlfwLibrary::~GlfwLibrary() {
     glfwTerminate();
 }
 
-Window::Window(int width, int height, const std::string& title, bool vsync) {
+Window::Window(int width, int height, const std::string& title, bool vsync, bool visible) {
+    GLFWwindow* const previous = glfwGetCurrentContext();
+    glfwWindowHint(GLFW_VISIBLE, visible ? GLFW_TRUE : GLFW_FALSE);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
@@ -82,10 +91,14 @@ Window::Window(int width, int height, const std::string& title, bool vsync) {
         glfwDestroyWindow(mWindow);
         throw Error(ErrorKind::Unsupported, "the window's OpenGL context is " + version + ", not 4.5 core");
     }
-    glfwSwapInterval(vsync ? 1 : 0);
 #ifndef NDEBUG
     gl::installDebugOutput();
 #endif
+    if (!visible) {
+        glfwMakeContextCurrent(previous);  // the thread that uses it makes it current there
+        return;
+    }
+    glfwSwapInterval(vsync ? 1 : 0);
 }
 
 Window::~Window() {
@@ -127,9 +140,55 @@ double RollingMean::mean() const {
     return mCount > 0 ? sum / mCount : 0.0;
 }
 
+// --- the GDM mode's picture -----------------------------------------------------------------------------
+
+PictureTexture::~PictureTexture() {
+    if (mFramebuffer != 0) glDeleteFramebuffers(1, &mFramebuffer);
+    if (mTexture != 0) glDeleteTextures(1, &mTexture);
+}
+
+void PictureTexture::upload(const Image& srgb) {
+    STRATA_CHECK_EQ(srgb.channels(), 3);
+    const int width = srgb.width(), height = srgb.height();
+    if (width != mWidth || height != mHeight) {
+        if (mTexture != 0) glDeleteTextures(1, &mTexture);
+        glCreateTextures(GL_TEXTURE_2D, 1, &mTexture);
+        glTextureStorage2D(mTexture, 1, GL_RGBA8, width, height);
+        if (mFramebuffer == 0) glCreateFramebuffers(1, &mFramebuffer);
+        glNamedFramebufferTexture(mFramebuffer, GL_COLOR_ATTACHMENT0, mTexture, 0);
+        glNamedFramebufferReadBuffer(mFramebuffer, GL_COLOR_ATTACHMENT0);
+        mWidth = width;
+        mHeight = height;
+    }
+    // 8 bits as the window holds them, rounded (the screenshot reads them back as they are); GL's row 0 is
+    // the bottom one, a picture's the top (CONVENTIONS §7).
+    std::vector<unsigned char> pixels(static_cast<std::size_t>(width) * height * 4);
+    for (int y = 0; y < height; ++y) {
+        const float* row = srgb.row(height - 1 - y);
+        unsigned char* out = pixels.data() + static_cast<std::size_t>(y) * width * 4;
+        for (int x = 0; x < width; ++x) {
+            for (int c = 0; c < 3; ++c) out[x * 4 + c] = toUnorm8(static_cast<double>(row[x * 3 + c]));
+            out[x * 4 + 3] = 255;
+        }
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(mTexture, 0, 0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+    gl::checkGl("strata-view: uploading the GDM picture");
+}
+
+bool PictureTexture::blit(int width, int height) const {
+    if (mTexture == 0) return false;
+    glDisable(GL_SCISSOR_TEST);  // a blit is scissored
+    const bool exact = width == mWidth && height == mHeight;
+    glBlitNamedFramebuffer(mFramebuffer, 0, 0, 0, mWidth, mHeight, 0, 0, width, height, GL_COLOR_BUFFER_BIT,
+                           exact ? GL_NEAREST : GL_LINEAR);
+    return true;
+}
+
 // --- the viewer -----------------------------------------------------------------------------------------
 
-Viewer::Viewer(const ViewerOptions& options, Scene scene, Material material, Mesh mesh)
+Viewer::Viewer(const ViewerOptions& options, Scene scene, Material material, Mesh mesh,
+               std::shared_ptr<const SceneGdm> gdm)
     : mOptions(options),
       mScene(std::move(scene)),
       mMaterial(std::move(material)),
@@ -139,9 +198,23 @@ Viewer::Viewer(const ViewerOptions& options, Scene scene, Material material, Mes
                         : std::string("material.json")),
       mWindow(options.width, options.height, "strata-view", options.screenshot.empty()),
       mImGui(mWindow.handle()) {
-    mRenderer = std::make_unique<gl::ReliefRenderer>();
     mRendererName = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     mDepthScale = mScene.relief.depthScale.value_or(mMaterial.compose.depthScale);
+    if (gdm) {
+        mGdm = std::move(gdm);
+        mGdmDescription = describeGdm(*mGdm);
+        mGdmSettings.technique = mScene.gdm.technique;
+        mGdmSettings.rank = mScene.gdm.rank == 0 ? mGdmDescription.storedRank : mScene.gdm.rank;
+        mGdmSettings.shellThickness = mScene.gdm.shellThickness;
+        mGdmSettings.tiling = mScene.relief.tiling;
+        // The worker draws with a context of its own, a hidden window's, current on its thread only.
+        mGdmContext = std::make_unique<Window>(16, 16, "strata-view GDM", false, false);
+        GLFWwindow* const context = mGdmContext->handle();
+        mGdmWorker = std::make_unique<GdmWorker>(
+            mGdm, [context] { glfwMakeContextCurrent(context); }, [] { glfwMakeContextCurrent(nullptr); });
+    } else {
+        mRenderer = std::make_unique<gl::ReliefRenderer>();
+    }
     setMesh(std::move(mesh));
     if (mScene.camera) mOrbit = OrbitCamera(*mScene.camera);
     // The light panel edits a direction from the mesh's centre; the scene's position is kept exactly until
@@ -166,8 +239,16 @@ BakeRequest Viewer::bakeRequest() const {
 }
 
 void Viewer::setMesh(Mesh mesh) {
-    gl::GpuMesh gpuMesh = gl::uploadMesh(mesh);  // throws for a bad mesh before anything changes
-    mGpuMesh = std::move(gpuMesh);
+    // Both throw for a bad mesh before anything changes.
+    if (mGdm) {
+        mGdmShell = gdmShell(*mGdm, mesh, mGdmSettings);
+        mGdmShellSettings = mGdmSettings;
+        mGdmMesh = std::make_shared<const Mesh>(mesh);
+        ++mGdmMeshId;
+    } else {
+        gl::GpuMesh gpuMesh = gl::uploadMesh(mesh);
+        mGpuMesh = std::move(gpuMesh);
+    }
     mBounds = meshBounds(mesh);
     mMesh = std::move(mesh);
     resetCamera();
@@ -178,8 +259,84 @@ void Viewer::resetCamera() {
     int width = 0, height = 0;
     glfwGetFramebufferSize(mWindow.handle(), &width, &height);
     const double aspect = width > 0 && height > 0 ? static_cast<double>(width) / height : 16.0 / 9.0;
-    // What `strata render` does for a scene without a camera.
-    mOrbit = OrbitCamera(frameCamera(mBounds, aspect));
+    // What `strata render` does for a scene without a camera (with a GDM: on the shell's bounds).
+    mOrbit = OrbitCamera(frameCamera(mGdm ? gdmFramingBounds(mMesh, mGdmShell.thickness) : mBounds, aspect));
+}
+
+void Viewer::updateGdmShell() {
+    // Only the tiling and T change the shell.
+    const bool same = mGdmShellSettings && mGdmShellSettings->tiling == mGdmSettings.tiling &&
+                      mGdmShellSettings->shellThickness == mGdmSettings.shellThickness;
+    mGdmShellSettings = mGdmSettings;
+    if (same) return;
+    try {
+        mGdmShell = gdmShell(*mGdm, mMesh, mGdmSettings);
+    } catch (const Error& e) {
+        // The panel keeps the previous shell's numbers; the worker reports the same failure for the picture.
+        setStatus(e.what(), true);
+    }
+}
+
+GdmFrame Viewer::gdmFrame(int width, int height) const {
+    GdmFrame frame;
+    frame.settings = mGdmSettings;
+    frame.camera = mOrbit.camera();
+    frame.light = mScene.lighting.lightPosition;
+    frame.width = width;
+    frame.height = height;
+    frame.samples = mGdmSamples;
+    frame.background = mScene.picture.background;
+    frame.mesh = mGdmMeshId;
+    return frame;
+}
+
+void Viewer::drawGdm(int width, int height) {
+    const GdmFrame full = gdmFrame(width, height);
+    const auto now = std::chrono::steady_clock::now();
+    if (!mGdmWanted || !sameFrame(*mGdmWanted, full)) {
+        mGdmWanted = full;
+        mGdmChangedAt = now;
+    }
+    std::optional<GdmPicture> picture;
+    if (!mOptions.screenshot.empty()) {
+        // Every frame draws its picture and waits for it, so that the screenshot's frame-time line measures
+        // a GDM frame (the drawing, the read-back and the upload), and the picture is the full one.
+        picture = mGdmWorker->wait(mGdmWorker->submit(full, mGdmMesh));
+        if (picture->error) std::rethrow_exception(picture->error);
+    } else {
+        // While the view changes (a drag, a slider), a smaller picture of one sample per pixel; the full
+        // one when it rests. Only the latest frame is drawn (GdmWorker::submit), and only once.
+        GdmFrame wanted = full;
+        if (mGdmPreview > 1 && now - mGdmChangedAt < kGdmRestTime) {
+            wanted.width = std::max(1, width / mGdmPreview);
+            wanted.height = std::max(1, height / mGdmPreview);
+            wanted.samples = 1;
+        }
+        if (!mGdmSubmitted || !sameFrame(*mGdmSubmitted, wanted)) {
+            mGdmWorker->submit(wanted, mGdmMesh);
+            mGdmSubmitted = wanted;
+        }
+        picture = mGdmWorker->take();
+        if (picture && picture->error) {
+            try {
+                std::rethrow_exception(picture->error);
+            } catch (const std::exception& e) {
+                setStatus(e.what(), true);
+            }
+            picture.reset();
+        }
+    }
+    if (picture) {
+        mPicture.upload(picture->image);
+        mGdmShown = picture->frame;
+        mGdmPictureMs = picture->seconds * 1e3;
+        mSceneMs.add(mGdmPictureMs);
+    }
+    const glm::dvec3 background = mScene.picture.background;
+    glClearColor(static_cast<float>(background.r), static_cast<float>(background.g),
+                 static_cast<float>(background.b), 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    mPicture.blit(width, height);
 }
 
 void Viewer::updateLight() {
@@ -193,7 +350,7 @@ void Viewer::updateLight() {
 }
 
 std::vector<fs::path> Viewer::inputs() const {
-    std::vector<fs::path> files = materialInputs(mMaterial);
+    std::vector<fs::path> files = mGdm ? mGdm->inputs : materialInputs(mMaterial);
     if (fs::exists(mMesh.name)) files.push_back(mMesh.name);
     if (!mOptions.sceneFile.empty()) files.push_back(mOptions.sceneFile);
     return files;
@@ -288,13 +445,19 @@ void Viewer::saveScreenshot(const fs::path& path, const Image& image) const {
 void Viewer::run() {
     const bool screenshotMode = !mOptions.screenshot.empty();
     // The first material before the first frame: there is nothing to show without it, and its failure is
-    // the input's (a bad layer file), reported with its exit code.
-    mGpuMaterial = mPipeline.updateAndWait(bakeRequest());
+    // the input's (a bad layer file), reported with its exit code. (A GDM is loaded already.)
+    if (!mGdm) mGpuMaterial = mPipeline.updateAndWait(bakeRequest());
 
     auto lastSwap = std::chrono::steady_clock::now();
     RollingMean screenshotFrames;  // frames after the first (which builds the shader programs)
     for (int frame = 0; !glfwWindowShouldClose(mWindow.handle()); ++frame) {
-        glfwPollEvents();
+        if (mGdm && !screenshotMode) {
+            // The window's frames only show the worker's last picture: wait for an event (or the worker's
+            // next picture, looked for every kGdmIdleFrame), rather than spin on the cores it draws with.
+            glfwWaitEventsTimeout(kGdmIdleFrame);
+        } else {
+            glfwPollEvents();
+        }
         int width = 0, height = 0;
         glfwGetFramebufferSize(mWindow.handle(), &width, &height);
         if (width <= 0 || height <= 0) {  // minimised
@@ -309,8 +472,13 @@ void Viewer::run() {
         if (mShowUi) drawPanels();
         ImGui::Render();
 
-        mGpuMaterial = mPipeline.update(bakeRequest());
-        drawScene(width, height);
+        if (mGdm) {
+            updateGdmShell();
+            drawGdm(width, height);
+        } else {
+            mGpuMaterial = mPipeline.update(bakeRequest());
+            drawScene(width, height);
+        }
         const bool lastFrame = screenshotMode && frame + 1 >= mOptions.frames;
         std::optional<Image> capture;
         if (mCaptureRequested && !mScreenshotWithUi) capture = readWindow(width, height);
@@ -349,6 +517,49 @@ void Viewer::run() {
 
 // --- entry point ----------------------------------------------------------------------------------------
 
+namespace {
+
+// The screenshot's name: PNG only, never over one of `inputs`.
+void checkScreenshot(const fs::path& screenshot, const std::vector<fs::path>& inputs) {
+    if (screenshot.empty()) return;
+    if (lowerCaseExtension(screenshot) != ".png")
+        throw Error(ErrorKind::Unsupported,
+                    screenshot.string() + ": --screenshot writes PNG only (a .png file name)");
+    refuseToOverwriteInputs(screenshot, inputs);
+}
+
+// --gdm and its settings on the scene (as `strata render`'s flags); a GDM with a material is a usage error.
+void applyGdmOptions(const ViewerOptions& options, Scene& scene) {
+    GdmSettings& gdm = scene.gdm;
+    if (!options.gdm.empty()) gdm.source = options.gdm;
+    if (!options.gdmTechnique.empty()) gdm.technique = parseGdmTechnique(options.gdmTechnique);
+    if (!options.gdmRank.empty()) {
+        try {
+            gdm.rank = parseGdmRank(options.gdmRank);
+        } catch (const Error& e) {
+            throw Error(ErrorKind::Usage, std::string("--gdm-rank: ") + e.what());
+        }
+    }
+    if (options.shellThickness) gdm.shellThickness = *options.shellThickness;
+    if (options.tiling) scene.relief.tiling = *options.tiling;
+    if (gdm.source.empty()) {
+        if (!options.gdmTechnique.empty() || !options.gdmRank.empty() || options.shellThickness)
+            throw Error(
+                ErrorKind::Usage,
+                "--gdm-technique, --gdm-rank and --shell-thickness go with a GDM (--gdm, or a scene's "
+                "\"gdm\")");
+        return;
+    }
+    if (!options.material.empty())
+        throw Error(ErrorKind::Usage,
+                    "--gdm shows a mesostructure instead of a material: give no MATERIAL "
+                    "with it");
+    if (!options.meta.empty())
+        throw Error(ErrorKind::Usage, "--meta is a meta-relief material's: a GDM has none");
+}
+
+}  // namespace
+
 void runViewer(const ViewerOptions& options) {
     // Everything that can be wrong with the input is found before a window opens.
     Scene scene = options.sceneFile.empty() ? Scene{} : readScene(options.sceneFile);
@@ -357,17 +568,35 @@ void runViewer(const ViewerOptions& options) {
                                                 ": depth_map: the viewer shows materials, not a bare depth "
                                                 "map (use `strata render` for the verification scene)");
     if (!options.mesh.empty()) scene.mesh = options.mesh;
+    applyGdmOptions(options, scene);
+    if (!scene.gdm.source.empty()) {
+        // The cheap checks first: a built-in GDM takes seconds to bake.
+        if (!options.screenshot.empty() && lowerCaseExtension(options.screenshot) != ".png")
+            checkScreenshot(options.screenshot, {});
+        Mesh mesh = loadSceneMesh(scene);
+        auto gdm = std::make_shared<const SceneGdm>(loadSceneGdm(
+            scene, [](const std::string& message) { std::cerr << "strata-view: " << message << "\n"; }));
+        // The shell of the scene's settings: a thickness or a mesh it refuses is the input's error.
+        GdmViewSettings settings;
+        settings.tiling = scene.relief.tiling;
+        settings.shellThickness = scene.gdm.shellThickness;
+        gdmShell(*gdm, mesh, settings);
+        std::vector<fs::path> inputs = gdm->inputs;
+        if (fs::exists(scene.mesh)) inputs.push_back(scene.mesh);
+        if (!options.sceneFile.empty()) inputs.push_back(options.sceneFile);
+        checkScreenshot(options.screenshot, inputs);
+        Viewer viewer(options, std::move(scene), Material{}, std::move(mesh), std::move(gdm));
+        viewer.run();
+        return;
+    }
     if (!options.meta.empty()) scene.meta = parseMetaPath(options.meta);
     Material material = openMaterial(options.material.empty() ? scene.material : options.material);
     Mesh mesh = loadSceneMesh(scene);
     if (!options.screenshot.empty()) {
-        if (lowerCaseExtension(options.screenshot) != ".png")
-            throw Error(ErrorKind::Unsupported,
-                        options.screenshot.string() + ": --screenshot writes PNG only (a .png file name)");
         std::vector<fs::path> inputs = materialInputs(material);
         if (fs::exists(scene.mesh)) inputs.push_back(scene.mesh);
         if (!options.sceneFile.empty()) inputs.push_back(options.sceneFile);
-        refuseToOverwriteInputs(options.screenshot, inputs);
+        checkScreenshot(options.screenshot, inputs);
     }
     Viewer viewer(options, std::move(scene), std::move(material), std::move(mesh));
     viewer.run();

@@ -1,11 +1,14 @@
 // strata-view: the interactive viewer. A GLFW window with an OpenGL 4.5 core context, the relief renderer
 // of `strata render` (gl::ReliefRenderer::draw into the window's framebuffer) and Dear ImGui panels on
-// top. docs/viewer.md describes the panels and controls.
+// top; or, with a GDM (--gdm, a scene's "gdm"), the GDM renderer of `strata render --gdm`, its pictures drawn
+// offscreen on a worker thread and shown in the window (gdm_view.h). docs/viewer.md describes the panels and
+// controls.
 #pragma once
 
 #include "material_bake.h"
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 namespace strata::view {
@@ -25,10 +28,18 @@ struct ViewerOptions {
     int frames = kScreenshotFrames;
     bool hideUi = false;  // start with the panels hidden (H toggles them)
     std::string meta;     // "live" | "baked": how the meta-relief reaches the shader; "" = the scene's
+    // A GDM instead of a material (as `strata render --gdm`): an asset directory or a built-in
+    // mesostructure name; "" = the scene's "gdm" (none: a relief material).
+    std::string gdm;
+    std::string gdmTechnique;              // "gdm" | "refine" | "march"; "" = the scene's
+    std::string gdmRank;                   // "K" | "raw"; "" = the scene's (the stored rank)
+    std::optional<double> shellThickness;  // T, world units (> 0); unset = the scene's (H x tile length)
+    std::optional<double> tiling;          // tiles per unit of mesh uv (> 0); unset = the scene's
 };
 
 // Runs the viewer until its window is closed (or, with a screenshot, until it is written).
-// Throws Error: Io or InvalidInput for the material, mesh or scene (before any window opens), Unsupported
+// Throws Error: Io or InvalidInput for the material, GDM, mesh or scene (before any window opens), Usage for
+// a GDM with a material or --meta, or GDM settings without a GDM, Unsupported
 // when there is no display or no OpenGL 4.5 core context (with a hint to use xvfb-run), Io when the
 // screenshot cannot be written, Runtime for a GL failure.
 void runViewer(const ViewerOptions& options);

@@ -2,6 +2,7 @@
 // (viewer_panels.cpp). The public entry point is runViewer (viewer.h).
 #pragma once
 
+#include "gdm_view.h"
 #include "material_document.h"
 #include "material_pipeline.h"
 #include "orbit_camera.h"
@@ -15,8 +16,10 @@
 #include "strata/scene/scene.h"
 
 #include <array>
+#include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,10 +36,12 @@ public:
     GlfwLibrary& operator=(const GlfwLibrary&) = delete;
 };
 
-// The window and its OpenGL 4.5 core context, current on the calling thread.
+// The window and its OpenGL 4.5 core context, current on the calling thread. A hidden one (visible false)
+// only lends its context to another thread (the GDM worker's): it leaves the calling thread's context
+// current as it was.
 class Window {
 public:
-    Window(int width, int height, const std::string& title, bool vsync);
+    Window(int width, int height, const std::string& title, bool vsync, bool visible = true);
     ~Window();
     Window(const Window&) = delete;
     Window& operator=(const Window&) = delete;
@@ -69,9 +74,35 @@ private:
     int mNext = 0;
 };
 
+// A picture in a texture, shown over the whole window (the GDM mode's: GdmRenderer reads its pictures back,
+// so they come to the window as images). Needs the window's context current, also when destroyed.
+class PictureTexture {
+public:
+    PictureTexture() = default;
+    ~PictureTexture();
+    PictureTexture(const PictureTexture&) = delete;
+    PictureTexture& operator=(const PictureTexture&) = delete;
+
+    // A 3-channel sRGB picture, row 0 at the top, quantised to 8 bits (toUnorm8, no dither).
+    void upload(const Image& srgb);
+    // Copies it to the window's back buffer, scaled to width x height (1:1 and exact at its own size,
+    // linear otherwise); false when there is none yet.
+    bool blit(int width, int height) const;
+    int width() const { return mWidth; }
+    int height() const { return mHeight; }
+
+private:
+    unsigned mTexture = 0;
+    unsigned mFramebuffer = 0;
+    int mWidth = 0;
+    int mHeight = 0;
+};
+
 class Viewer {
 public:
-    Viewer(const ViewerOptions& options, Scene scene, Material material, Mesh mesh);
+    // `gdm`: the GDM mode (the material is not used); null: the relief mode.
+    Viewer(const ViewerOptions& options, Scene scene, Material material, Mesh mesh,
+           std::shared_ptr<const SceneGdm> gdm = nullptr);
     ~Viewer();
     // Runs until the window closes, or until the screenshot is written.
     void run();
@@ -84,6 +115,10 @@ private:
     void handleInput();
     void drawScene(int width, int height);
     void updateLight();
+    // GDM mode.
+    GdmFrame gdmFrame(int width, int height) const;
+    void drawGdm(int width, int height);
+    void updateGdmShell();
     Image readWindow(int width, int height) const;
     void saveScreenshot(const std::filesystem::path& path, const Image& image) const;
     std::vector<std::filesystem::path> inputs() const;
@@ -91,7 +126,11 @@ private:
     // viewer_panels.cpp
     void drawPanels();
     void scenePanel();
+    void reliefControls();
     void materialPanel();
+    void materialSaveControls();
+    void gdmControls();
+    void gdmPanel();
     void layerControls(int index, int& removeIndex, int& moveFrom, int& moveTo);
     void addLayerControls();
     void savePanel();
@@ -130,6 +169,22 @@ private:
     RollingMean mSceneMs;  // ReliefRenderer::draw up to glFinish
     std::string mRendererName;
 
+    // GDM mode (mGdm set).
+    std::shared_ptr<const SceneGdm> mGdm;
+    GdmDescription mGdmDescription;
+    GdmViewSettings mGdmSettings;  // rank 1..stored or kGdmRankRaw
+    int mGdmSamples = 1;           // per pixel, as PictureSettings::samples
+    int mGdmPreview = 4;           // while the view changes: pictures at 1 / this of the window's width
+    std::shared_ptr<const Mesh> mGdmMesh;  // mMesh, shared with the worker
+    std::uint64_t mGdmMeshId = 0;
+    PrismShell mGdmShell;  // the current settings' shell on mMesh (its T, tile length)
+    std::optional<GdmViewSettings> mGdmShellSettings;     // what mGdmShell was built for
+    std::optional<GdmFrame> mGdmWanted;                   // the full picture the view asks for
+    std::chrono::steady_clock::time_point mGdmChangedAt;  // when it last changed
+    std::optional<GdmFrame> mGdmSubmitted;                // the last frame given to the worker
+    std::optional<GdmFrame> mGdmShown;                    // the frame of the picture in the window
+    double mGdmPictureMs = 0.0;                           // the last picture's time on the worker
+
     // Destroyed in reverse order: GL objects while the context still exists, then ImGui, window, GLFW.
     GlfwLibrary mGlfw;
     Window mWindow;
@@ -138,6 +193,11 @@ private:
     gl::GpuMesh mGpuMesh;
     MaterialPipeline mPipeline;
     const gl::GpuMaterial* mGpuMaterial = nullptr;
+    // GDM mode: the window's picture, then the worker's hidden window (its context) and the worker, which
+    // stops (and releases that context) before the window goes.
+    PictureTexture mPicture;
+    std::unique_ptr<Window> mGdmContext;
+    std::unique_ptr<GdmWorker> mGdmWorker;
 };
 
 }  // namespace strata::view

@@ -1,6 +1,8 @@
 // The viewer's Dear ImGui panels: Scene (mesh, technique, depth scale, AO, light, camera), Material (the
-// meta-relief layers), Save, and the frame-time overlay. Panels only edit the viewer's state; the frame
-// loop (viewer.cpp) turns that state into a render request and a bake request every frame.
+// meta-relief layers), Save, and the frame-time overlay; in GDM mode the Scene panel's GDM section
+// (technique, rank, shell thickness, tiling, samples) and the GDM panel (what is loaded) instead of the
+// relief and material ones. Panels only edit the viewer's state; the frame loop (viewer.cpp) turns that
+// state into a render request and a bake request (or a GDM frame) every frame.
 #include "viewer_app.h"
 
 #include "strata/core/error.h"
@@ -89,7 +91,10 @@ void Viewer::setStatus(std::string message, bool error) {
 
 void Viewer::drawPanels() {
     scenePanel();
-    materialPanel();
+    if (mGdm)
+        gdmPanel();
+    else
+        materialPanel();
     statsOverlay();
 }
 
@@ -127,6 +132,41 @@ void Viewer::scenePanel() {
         }
     }
 
+    if (mGdm) {
+        gdmControls();
+    } else {
+        reliefControls();
+    }
+
+    section("light");
+    bool lightChanged = sliderDouble("azimuth", mLightAzimuth, -180.0, 180.0, "%.0f deg");
+    lightChanged |= sliderDouble("elevation", mLightElevation, -10.0, 90.0, "%.0f deg");
+    if (lightChanged) updateLight();
+    // The GDM shading has its own ambient term (GdmRenderer::renderShaded takes the light's position only).
+    if (!mGdm) sliderDouble("ambient", mScene.lighting.ambient, 0.0, 1.0, "%.2f");
+
+    section("camera");
+    ImGui::TextColored(kDimColor, "left drag: orbit    wheel: zoom");
+    ImGui::TextColored(kDimColor, "right or middle drag, shift + left drag: pan");
+    if (ImGui::Button("reset camera (R)")) resetCamera();
+    ImGui::SameLine();
+    ImGui::TextColored(kDimColor, "H: hide panels");
+
+    savePanel();
+    if (!mStatus.empty()) {
+        ImGui::Separator();
+        ImGui::PushTextWrapPos(0.0f);
+        if (mStatusIsError)
+            ImGui::TextColored(kErrorColor, "%s", mStatus.c_str());
+        else
+            ImGui::TextUnformatted(mStatus.c_str());
+        ImGui::PopTextWrapPos();
+    }
+    ImGui::PopItemWidth();
+    ImGui::End();
+}
+
+void Viewer::reliefControls() {
     section("relief");
     ReliefSettings& relief = mScene.relief;
     // maxmip and cone need the baked depth's maximum mipmap or cone map: not offered while the material is
@@ -171,36 +211,122 @@ void Viewer::scenePanel() {
             "How the AO baked at the material's S follows another depth scale:\n"
             "paper: the meta-relief paper's Eq. 4-6 per fragment; exact: re-baked at S;\n"
             "off: used as baked.");
+}
 
-    section("light");
-    bool lightChanged = sliderDouble("azimuth", mLightAzimuth, -180.0, 180.0, "%.0f deg");
-    lightChanged |= sliderDouble("elevation", mLightElevation, -10.0, 90.0, "%.0f deg");
-    if (lightChanged) updateLight();
-    sliderDouble("ambient", mScene.lighting.ambient, 0.0, 1.0, "%.2f");
+void Viewer::gdmControls() {
+    section("GDM");
+    GdmViewSettings& gdm = mGdmSettings;
+    static const char* const kTechniques[] = {"gdm", "refine", "march"};  // the GdmTechnique enum's order
+    int technique = static_cast<int>(gdm.technique);
+    if (ImGui::Combo("technique", &technique, kTechniques, static_cast<int>(std::size(kTechniques))))
+        gdm.technique = static_cast<GdmTechnique>(technique);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "gdm: the paper's lookup, one GDM read per prism (Wang et al. 2004, Sec. 3.2)\n"
+            "refine: the lookup, then the occupancy's crossing near it\n"
+            "march: no GDM, the occupancy volume stepped every voxel (the slice-based baseline)");
 
-    section("camera");
-    ImGui::TextColored(kDimColor, "left drag: orbit    wheel: zoom");
-    ImGui::TextColored(kDimColor, "right or middle drag, shift + left drag: pan");
-    if (ImGui::Button("reset camera (R)")) resetCamera();
-    ImGui::SameLine();
-    ImGui::TextColored(kDimColor, "H: hide panels");
-
-    savePanel();
-    if (!mStatus.empty()) {
-        ImGui::Separator();
-        ImGui::PushTextWrapPos(0.0f);
-        if (mStatusIsError)
-            ImGui::TextColored(kErrorColor, "%s", mStatus.c_str());
-        else
-            ImGui::TextUnformatted(mStatus.c_str());
-        ImGui::PopTextWrapPos();
+    // Rank: the first K terms of the stored SVD (truncated on the worker, no re-bake), or the raw GDM.
+    bool raw = gdm.rank == kGdmRankRaw;
+    ImGui::BeginDisabled(raw);
+    int rank = raw ? mGdmDescription.storedRank : gdm.rank;
+    if (ImGui::SliderInt("rank", &rank, 1, mGdmDescription.storedRank, "%d", ImGuiSliderFlags_AlwaysClamp))
+        gdm.rank = rank;
+    ImGui::EndDisabled();
+    if (mGdmDescription.hasRaw) {
+        if (ImGui::Checkbox("raw GDM (no SVD)", &raw))
+            gdm.rank = raw ? kGdmRankRaw : mGdmDescription.storedRank;
+    } else {
+        ImGui::TextColored(kDimColor, "no raw GDM in the asset (bake with --keep-raw)");
     }
-    ImGui::PopItemWidth();
+
+    // T in world units; the default is H times the world length of one tile (it follows the tiling).
+    const double defaultThickness = mGdm->asset.svd.height * mGdmShell.tileLength;
+    double thickness = gdm.shellThickness.value_or(defaultThickness);
+    if (defaultThickness > 0.0 &&
+        sliderDouble("thickness T", thickness, defaultThickness / 8.0, defaultThickness * 4.0, "%.4f", true))
+        gdm.shellThickness = thickness;
+    ImGui::SameLine();
+    if (ImGui::SmallButton("T0")) gdm.shellThickness.reset();
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("back to H x tile length = %.3g x %.4f = %.4f", mGdm->asset.svd.height,
+                          mGdmShell.tileLength, defaultThickness);
+    sliderDouble("tiling", gdm.tiling, 0.25, 32.0, "%.2f", true);
+
+    static const int kSamples[] = {1, 4, 9, 16};
+    int samples = 0;
+    while (samples < 3 && kSamples[samples] != mGdmSamples) ++samples;
+    if (ImGui::Combo("samples", &samples,
+                     "1\0"
+                     "4 (2 x 2)\0"
+                     "9 (3 x 3)\0"
+                     "16 (4 x 4)\0"))
+        mGdmSamples = kSamples[samples];
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("per pixel, supersampled as strata render --samples (each costs a whole picture)");
+    int preview = mGdmPreview == 1 ? 0 : mGdmPreview == 2 ? 1 : 2;
+    if (ImGui::Combo("while moving", &preview,
+                     "full size\0"
+                     "1/2 size\0"
+                     "1/4 size\0"))
+        mGdmPreview = preview == 0 ? 1 : preview == 1 ? 2 : 4;
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "While the view or a setting changes, draw smaller pictures (one sample per pixel):\n"
+            "a GDM picture is drawn offscreen and read back, seconds per frame on llvmpipe.");
+}
+
+void Viewer::gdmPanel() {
+    const ImGuiViewport* viewport = ImGui::GetMainViewport();
+    ImGui::SetNextWindowPos(ImVec2(viewport->WorkSize.x - kPanelWidth - kMargin, kMargin),
+                            ImGuiCond_FirstUseEver);
+    // Text only: it fits its lines, which change (the picture's, the drawing one).
+    if (!ImGui::Begin("GDM", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::End();
+        return;
+    }
+    const GdmDescription& d = mGdmDescription;
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + kPanelWidth - 16.0f);
+    ImGui::TextUnformatted(d.source.c_str());
+    ImGui::TextColored(kDimColor, "%s", d.dims.c_str());
+    ImGui::TextColored(kDimColor, "H = %.3g tile widths", d.height);
+    const int rank = mGdmSettings.rank;
+    if (rank == kGdmRankRaw) {
+        ImGui::Text("raw GDM: %.1f MiB", d.rawMiB);
+    } else {
+        // W (rows x K) and E (K x cols) are both linear in K.
+        ImGui::Text("rank %d of %d: %.2f MiB (stored %.2f MiB)", rank, d.storedRank,
+                    d.svdMiB * rank / d.storedRank, d.svdMiB);
+    }
+    if (d.hasRaw && rank != kGdmRankRaw) ImGui::TextColored(kDimColor, "raw GDM: %.1f MiB", d.rawMiB);
+    ImGui::TextColored(kDimColor, "volumes (occupancy, albedo): %.2f MiB", d.volumeMiB);
+    section("shell");
+    ImGui::Text("T = %.4f world units, %zu prisms", mGdmShell.thickness, mGdmShell.prisms.size());
+    ImGui::TextColored(kDimColor, "tile length %.4f at tiling %.2f", mGdmShell.tileLength,
+                       mGdmSettings.tiling);
+    section("picture");
+    if (mGdmShown)
+        ImGui::Text("%dx%d, %d sample%s: %.0f ms", mGdmShown->width, mGdmShown->height, mGdmShown->samples,
+                    mGdmShown->samples > 1 ? "s" : "", mGdmPictureMs);
+    if (mGdmWorker->busy())
+        ImGui::TextColored(ImVec4(1.0f, 0.85f, 0.4f, 1.0f), "drawing %dx%d ...",
+                           mGdmSubmitted ? mGdmSubmitted->width : 0,
+                           mGdmSubmitted ? mGdmSubmitted->height : 0);
+    ImGui::TextColored(kDimColor, "drawn offscreen on a worker thread and read back");
+    ImGui::PopTextWrapPos();
     ImGui::End();
 }
 
 void Viewer::savePanel() {
     section("save");
+    if (!mGdm) materialSaveControls();
+    ImGui::InputText("##screenshotpath", &mScreenshotPath);
+    ImGui::SameLine();
+    if (ImGui::Button("screenshot (S)")) mCaptureRequested = true;
+    ImGui::Checkbox("screenshot with panels", &mScreenshotWithUi);
+}
+
+void Viewer::materialSaveControls() {
     ImGui::InputText("##materialpath", &mMaterialPath);
     ImGui::SameLine();
     if (ImGui::Button("save material")) {
@@ -216,10 +342,6 @@ void Viewer::savePanel() {
             setStatus(e.what(), true);
         }
     }
-    ImGui::InputText("##screenshotpath", &mScreenshotPath);
-    ImGui::SameLine();
-    if (ImGui::Button("screenshot (S)")) mCaptureRequested = true;
-    ImGui::Checkbox("screenshot with panels", &mScreenshotWithUi);
 }
 
 void Viewer::materialPanel() {
@@ -394,10 +516,12 @@ void Viewer::statsOverlay() {
                                    ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove;
     if (ImGui::Begin("frame time", nullptr, flags)) {
         const double frameMs = mFrameMs.mean();
-        ImGui::Text("frame %.1f ms (%.1f fps)  scene %.1f ms  %dx%d  %s", frameMs,
-                    frameMs > 0.0 ? 1000.0 / frameMs : 0.0, mSceneMs.mean(),
-                    static_cast<int>(viewport->WorkSize.x), static_cast<int>(viewport->WorkSize.y),
-                    mRendererName.c_str());
+        // In GDM mode the scene's time is the last picture's on the worker (the window's frames only show
+        // it).
+        ImGui::Text("frame %.1f ms (%.1f fps)  %s %.1f ms  %dx%d  %s", frameMs,
+                    frameMs > 0.0 ? 1000.0 / frameMs : 0.0, mGdm ? "GDM picture" : "scene",
+                    mGdm ? mGdmPictureMs : mSceneMs.mean(), static_cast<int>(viewport->WorkSize.x),
+                    static_cast<int>(viewport->WorkSize.y), mRendererName.c_str());
     }
     ImGui::End();
 }

@@ -1,19 +1,26 @@
 // strata-view: the parts without a window (orbit camera, the edited material and its JSON, the cached bake
-// stages against the library's own composition), and the viewer end to end: `--screenshot` under xvfb-run
-// against `strata render` of the same scene, and the documented exit codes.
+// stages against the library's own composition, the GDM view and its worker), and the viewer end to end:
+// `--screenshot` under xvfb-run against `strata render` of the same scene (relief and GDM), and the
+// documented exit codes.
 //
 // The end-to-end tests need the built viewer (STRATA_BUILD_VIEWER) and, for the window, xvfb-run
 // (scripts/install-deps.sh installs it); without them they skip.
 #include "gl_test_support.h"
 #include "test_support.h"
 
+#include "gdm_view.h"
 #include "material_bake.h"
 #include "material_document.h"
 #include "material_pipeline.h"
 #include "orbit_camera.h"
 
 #include "strata/core/error.h"
+#include "strata/gdm/gdm_bake.h"
+#include "strata/gdm/gdm_svd.h"
+#include "strata/gdm/mesostructure.h"
+#include "strata/gdm/mesostructure_mesh.h"
 #include "strata/gl/context.h"
+#include "strata/gl/gdm_picture.h"
 #include "strata/gl/gl_error.h"
 #include "strata/gl/gpu_material.h"
 #include "strata/gl/gpu_mesh.h"
@@ -437,6 +444,193 @@ TEST(ViewerPipeline, LiveExactAoIsRebakedInTheBackground) {
     EXPECT_NO_THROW(gl::checkGl("the exact AO test"));
 }
 
+// --- the GDM view ---------------------------------------------------------------------------------------
+
+// A tiny weave GDM, as `strata gdm bake --meso weave --size 16x16x4 --dirs 8x16 --keep-raw --rank 4` would
+// bake it (the solid meshed at 16 voxels per tile): milliseconds to bake, enough to show threads.
+std::shared_ptr<const SceneGdm> tinyWeave() {
+    static const std::shared_ptr<const SceneGdm> gdm = [] {
+        const Mesostructure meso = makeMesostructure("weave");
+        const GdmDims dims{16, 16, 4, 8, 16};
+        auto out = std::make_shared<SceneGdm>();
+        Gdm raw = bakeGdm(meshMesostructure(meso, 16), dims);
+        out->asset.svd = compressGdm(raw, 4);
+        out->asset.occupancy = gdmOccupancy(raw);
+        out->asset.albedo = mesostructureAlbedo(meso, dims);
+        out->asset.raw = std::move(raw);
+        out->asset.source = "meso weave";
+        out->svd = out->asset.svd;
+        out->description = "tiny weave, rank 4";
+        return out;
+    }();
+    return gdm;
+}
+
+// A 64x48 frame of the sphere, framed as `strata render --gdm` frames it, 1 sample.
+GdmFrame sphereFrame(const SceneGdm& gdm, const Mesh& sphere, const GdmViewSettings& settings) {
+    GdmFrame frame;
+    frame.settings = settings;
+    frame.width = 64;
+    frame.height = 48;
+    frame.camera =
+        frameCamera(gdmFramingBounds(sphere, gdmShell(gdm, sphere, settings).thickness), 64.0 / 48.0);
+    frame.light = Lighting{}.lightPosition;
+    frame.mesh = 1;
+    return frame;
+}
+
+// What `strata render --gdm` draws for the frame: a fresh renderer with the GDM of that rank, the shell and
+// the volumes (render_gdm.cpp's steps).
+Image freshPicture(const SceneGdm& gdm, const Mesh& mesh, const GdmFrame& frame, const GdmSvd& svd) {
+    gl::GdmRenderer renderer;
+    renderer.setGdm(svd);
+    PrismShellOptions shell;
+    shell.height = svd.height;
+    shell.tiling = glm::dvec2(frame.settings.tiling);
+    shell.thickness = frame.settings.shellThickness;
+    renderer.setMesh(mesh, shell);
+    renderer.setVolumes(gdm.asset.occupancy, gdm.asset.albedo);
+    Lighting lighting;
+    lighting.lightPosition = frame.light;
+    return gl::renderGdmPicture(renderer, frame.camera, lighting, gdmPictureSettings(frame),
+                                frame.settings.technique);
+}
+
+// Values that differ by more than 2/255 (more than 8-bit rounding could make), % of all.
+double percentApart(const Image& a, const Image& b) {
+    int apart = 0;
+    for (std::size_t i = 0; i < a.pixels().size(); ++i)
+        apart += std::fabs(static_cast<double>(a.pixels()[i] - b.pixels()[i])) > 2.0 / 255.0 ? 1 : 0;
+    return 100.0 * apart / static_cast<double>(a.pixels().size());
+}
+
+TEST(ViewerGdm, EachChangeUploadsOnlyWhatItChangesAndDrawsStrataRendersPicture) {
+    SKIP_WITHOUT_GL();
+    const std::shared_ptr<const SceneGdm> gdm = tinyWeave();
+    const auto sphere = std::make_shared<const Mesh>(makeBuiltinMesh("sphere"));
+    GdmView view(gdm);
+    view.setMesh(sphere, 1);
+    GdmViewSettings settings;
+    settings.rank = 4;
+    GdmFrame frame = sphereFrame(*gdm, *sphere, settings);
+
+    const Image first = view.render(frame);
+    EXPECT_EQ(view.gdmUploads(), 1);
+    EXPECT_EQ(view.shellBuilds(), 1);
+    EXPECT_EQ(view.renders(), 1);
+    ASSERT_EQ(first.width(), 64);
+    ASSERT_EQ(first.height(), 48);
+    ASSERT_EQ(first.channels(), 3);
+    // The same code path as `strata render --gdm` on the same context: the same picture, exactly.
+    EXPECT_EQ(test::maxAbsDiff(first, freshPicture(*gdm, *sphere, frame, gdm->asset.svd)), 0.0);
+
+    // The camera: a picture, nothing uploaded.
+    GdmFrame turned = frame;
+    turned.camera.eye.x += 0.3;
+    view.render(turned);
+    EXPECT_EQ(view.gdmUploads(), 1);
+    EXPECT_EQ(view.shellBuilds(), 1);
+    EXPECT_EQ(view.renders(), 2);
+
+    // The technique: nothing uploaded, another picture. March steps the occupancy instead of reading the
+    // GDM: on this 16x16x4 weave the threads' outlines and shading move (measured: 10.9 % of the values
+    // more than 2/255 apart). The same frame drawn again is exactly the same picture (0 %, above), so 3 %
+    // tells a changed picture from an unchanged one with room either way; it is the bound below too.
+    GdmFrame march = frame;
+    march.settings.technique = GdmTechnique::March;
+    const Image marched = view.render(march);
+    EXPECT_EQ(view.gdmUploads(), 1);
+    EXPECT_EQ(view.shellBuilds(), 1);
+    EXPECT_GT(percentApart(marched, first), 3.0);
+
+    // The rank: the truncated SVD uploaded (no bake), and the shell and volumes again (setGdm forgets them);
+    // the picture is the one of a renderer given truncateGdmSvd(svd, 1) outright. Rank 1 loses much of the
+    // weave's shape (measured: 11.7 % of the values apart from rank 4's).
+    GdmFrame rank1 = frame;
+    rank1.settings.rank = 1;
+    const Image truncated = view.render(rank1);
+    EXPECT_EQ(view.gdmUploads(), 2);
+    EXPECT_EQ(view.shellBuilds(), 2);
+    EXPECT_EQ(
+        test::maxAbsDiff(truncated, freshPicture(*gdm, *sphere, rank1, truncateGdmSvd(gdm->asset.svd, 1))),
+        0.0);
+    EXPECT_GT(percentApart(truncated, first), 3.0);
+
+    // The raw GDM (the asset keeps it): another upload, another picture (measured: 11.4 % of the values
+    // apart from rank 1's, 5.6 % from rank 4's).
+    GdmFrame raw = frame;
+    raw.settings.rank = kGdmRankRaw;
+    const Image rawPicture = view.render(raw);
+    EXPECT_EQ(view.gdmUploads(), 3);
+    EXPECT_GT(percentApart(rawPicture, truncated), 3.0);
+
+    // Tiling and T: the shell only.
+    GdmFrame tiled = raw;
+    tiled.settings.tiling = 2.0;
+    view.render(tiled);
+    tiled.settings.shellThickness = 0.2;
+    view.render(tiled);
+    EXPECT_EQ(view.gdmUploads(), 3);
+    EXPECT_EQ(view.shellBuilds(), 5);
+
+    // A rank the asset lacks: refused with both ranks named; the next frame uploads everything again and
+    // draws the first picture exactly.
+    GdmFrame tooMany = frame;
+    tooMany.settings.rank = 5;
+    try {
+        view.render(tooMany);
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::InvalidInput);
+        EXPECT_NE(std::string(e.what()).find("5"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(test::maxAbsDiff(view.render(frame), first), 0.0);
+    EXPECT_EQ(view.gdmUploads(), 4);
+    EXPECT_NO_THROW(gl::checkGl("the GDM view test"));
+}
+
+TEST(ViewerGdm, TheWorkerDrawsOnItsOwnContextAndReportsFailures) {
+    SKIP_WITHOUT_GL();
+    const std::shared_ptr<const SceneGdm> gdm = tinyWeave();
+    const auto sphere = std::make_shared<const Mesh>(makeBuiltinMesh("sphere"));
+    GdmViewSettings settings;
+    settings.rank = 4;
+    const GdmFrame frame = sphereFrame(*gdm, *sphere, settings);
+    GdmView direct(gdm);
+    direct.setMesh(sphere, 1);
+    const Image expected = direct.render(frame);
+
+    // The worker's context: another headless one, made and destroyed on the worker's thread (the viewer's
+    // is a hidden window's).
+    std::unique_ptr<gl::HeadlessContext> context;
+    {
+        GdmWorker worker(
+            gdm, [&context] { context = gl::HeadlessContext::create(); }, [&context] { context.reset(); });
+        const std::uint64_t job = worker.submit(frame, sphere);
+        const GdmPicture picture = worker.wait(job);
+        EXPECT_EQ(picture.job, job);
+        ASSERT_FALSE(picture.error);
+        EXPECT_TRUE(sameFrame(picture.frame, frame));
+        EXPECT_EQ(test::maxAbsDiff(picture.image, expected), 0.0);  // the same renderer on the same driver
+        EXPECT_FALSE(worker.take().has_value());                    // wait() took it
+
+        GdmFrame bad = frame;
+        bad.settings.rank = 9;
+        const GdmPicture failed = worker.wait(worker.submit(bad, sphere));
+        ASSERT_TRUE(failed.error);
+        try {
+            std::rethrow_exception(failed.error);
+        } catch (const Error& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::InvalidInput);
+        }
+        EXPECT_TRUE(failed.image.pixels().empty());
+    }
+    EXPECT_EQ(context, nullptr);  // released on the worker's thread when it stopped
+    // The test's own context is still current on this thread.
+    EXPECT_NO_THROW(direct.render(frame));
+    EXPECT_NO_THROW(gl::checkGl("the GDM worker test"));
+}
+
 // --- end to end -----------------------------------------------------------------------------------------
 
 test::CommandResult runShell(const std::string& command) {
@@ -655,6 +849,143 @@ TEST(ViewerCli, LiveScreenshotMatchesStrataRenderLive) {
     EXPECT_EQ(maxmip.exitCode, 3) << maxmip.output;
     EXPECT_NE(maxmip.output.find("maxmip needs a baked material"), std::string::npos) << maxmip.output;
     EXPECT_FALSE(fs::exists(dir / "maxmip.png"));
+}
+
+// A tiny baked asset: `strata gdm bake --meso weave --size 16x16x4 --dirs 8x16` (rank 8, and the raw GDM
+// with `keepRaw`), about 0.1 s.
+void bakeTinyAsset(const fs::path& dir, bool keepRaw) {
+    const test::CommandResult bake =
+        test::runCli("gdm bake --meso weave --size 16x16x4 --dirs 8x16" +
+                     std::string(keepRaw ? " --keep-raw" : "") + " -o " + quoted(dir));
+    ASSERT_EQ(bake.exitCode, 0) << bake.output;
+}
+
+TEST(ViewerCli, GdmExitCodesWithoutADisplay) {
+    // A bad --gdm is the input's error, found before a window would open (so without a display it is that
+    // error, not 5), and nothing is written.
+    SKIP_WITHOUT_VIEWER();
+    test::ScratchDir dir("viewer-gdm-exit");
+    ASSERT_NO_FATAL_FAILURE(bakeTinyAsset(dir / "tiny", true));
+    ASSERT_NO_FATAL_FAILURE(bakeTinyAsset(dir / "svd-only", false));
+    const std::string shot = " --screenshot " + quoted(dir / "a.png");
+    // 3: neither an asset nor a built-in (the message lists the built-ins).
+    test::CommandResult run = runWithoutDisplay("--gdm no-such-meso" + shot);
+    EXPECT_EQ(run.exitCode, 3) << run.output;
+    EXPECT_NE(run.output.find("neither a GDM asset directory nor a built-in mesostructure"),
+              std::string::npos)
+        << run.output;
+    EXPECT_NE(run.output.find("weave"), std::string::npos) << run.output;
+    // 2: a directory that is not an asset.
+    fs::create_directories(dir / "empty");
+    run = runWithoutDisplay("--gdm " + quoted(dir / "empty") + shot);
+    EXPECT_EQ(run.exitCode, 2) << run.output;
+    EXPECT_NE(run.output.find("not a GDM asset directory"), std::string::npos) << run.output;
+    // 3: a rank the asset lacks, from the flag and from a scene file.
+    run = runWithoutDisplay("--gdm " + quoted(dir / "tiny") + " --gdm-rank 9" + shot);
+    EXPECT_EQ(run.exitCode, 3) << run.output;
+    EXPECT_NE(run.output.find("gdm_rank 9 is more than the 8 terms"), std::string::npos) << run.output;
+    test::writeBytes(dir / "raw.json", R"({"mesh": "sphere", "gdm": "svd-only", "gdm_rank": "raw"})");
+    run = runWithoutDisplay("--scene " + quoted(dir / "raw.json") + shot);
+    EXPECT_EQ(run.exitCode, 3) << run.output;
+    EXPECT_NE(run.output.find("holds no raw GDM"), std::string::npos) << run.output;
+    // 1: a GDM with a material, GDM settings without a GDM, a malformed rank.
+    run = runWithoutDisplay("stone-bricks --gdm " + quoted(dir / "tiny") + shot);
+    EXPECT_EQ(run.exitCode, 1) << run.output;
+    run = runWithoutDisplay("--gdm-rank 2" + shot);
+    EXPECT_EQ(run.exitCode, 1) << run.output;
+    run = runWithoutDisplay("--gdm " + quoted(dir / "tiny") + " --gdm-rank two" + shot);
+    EXPECT_EQ(run.exitCode, 1) << run.output;
+    // 5: a valid GDM without a display.
+    run = runWithoutDisplay("--gdm " + quoted(dir / "tiny") + " --mesh sphere" + shot);
+    EXPECT_EQ(run.exitCode, 5) << run.output;
+    EXPECT_NE(run.output.find("xvfb-run"), std::string::npos) << run.output;
+    EXPECT_EQ(test::countEntries(dir.path()), 4);  // tiny, svd-only, empty, raw.json: nothing was written
+}
+
+// Reads an 8-bit screenshot and a 16-bit `strata render` picture of the same scene: with the same float
+// picture, each 8-bit value is round(v * 255) and each 16-bit one round(v * 65535), so they can differ by
+// at most half an 8-bit step plus half a 16-bit one. Only when both ran on llvmpipe (another driver may
+// rasterise differently).
+void expectSameGdmPicture(const Image& view, const Image& reference, const std::string& viewerOutput,
+                          const std::string& renderOutput) {
+    if (viewerOutput.find("llvmpipe") == std::string::npos ||
+        renderOutput.find("llvmpipe") == std::string::npos) {
+        std::cout << "not comparing with strata render: different OpenGL implementations\n"
+                  << viewerOutput << renderOutput;
+        return;
+    }
+    EXPECT_LE(test::maxAbsDiff(view, reference), 0.5 / 255.0 + 0.5 / 65535.0 + 1e-6)
+        << "the viewer's window should hold strata render's picture, rounded to 8 bits";
+}
+
+TEST(ViewerCli, GdmScreenshotUnderXvfbMatchesStrataRender) {
+    SKIP_WITHOUT_VIEWER();
+    if (runShell("command -v xvfb-run").exitCode != 0)
+        GTEST_SKIP() << "xvfb-run is not installed (scripts/install-deps.sh installs it)";
+    test::ScratchDir dir("viewer-gdm");
+    ASSERT_NO_FATAL_FAILURE(bakeTinyAsset(dir / "tiny", true));
+    // No camera: both frame the shell's bounds at 4:3 (frameCamera).
+    const std::string common = " --gdm " + quoted(dir / "tiny") + " --mesh sphere --size 256x192";
+    const test::CommandResult scene =
+        runUnderXvfb(viewer() + common + " --no-ui --screenshot " + quoted(dir / "view.png"));
+    ASSERT_EQ(scene.exitCode, 0) << scene.output;
+    EXPECT_NE(scene.output.find("ms per frame after the first"), std::string::npos) << scene.output;
+    const test::CommandResult panels =
+        runUnderXvfb(viewer() + common + " --screenshot " + quoted(dir / "panels.png"));
+    ASSERT_EQ(panels.exitCode, 0) << panels.output;
+    const test::CommandResult render =
+        test::runCli("render" + common + " --samples 1 --bit-depth 16 -o " + quoted(dir / "render.png"));
+    if (render.exitCode == 5)
+        GTEST_SKIP() << "no headless OpenGL context for strata render: " << render.output;
+    ASSERT_EQ(render.exitCode, 0) << render.output;
+
+    const Image view = readImage(dir / "view.png");
+    const Image withPanels = readImage(dir / "panels.png");
+    const Image reference = readImage(dir / "render.png");
+    ASSERT_EQ(view.width(), 256);
+    ASSERT_EQ(view.height(), 192);
+    ASSERT_EQ(view.channels(), 3);
+    ASSERT_EQ(withPanels.width(), 256);
+    ASSERT_EQ(reference.width(), 256);
+    ASSERT_EQ(reference.height(), 192);
+    ASSERT_EQ(reference.channels(), 3);
+
+    // Not blank: the corner is the background to within 8-bit rounding, and the centre, where the sphere's
+    // shell is, is not (the weave's threads in indigo and cream; measured: every pixel of the box more than
+    // 0.1 from the background in the sum of its channels but 2 %).
+    const glm::dvec3 background = PictureSettings{}.background;
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(static_cast<double>(view.at(2, 2, c)), background[c], 0.5 / 255.0 + 1e-6);
+    int shell = 0;
+    for (int y = 80; y < 112; ++y)
+        for (int x = 112; x < 144; ++x) {
+            double difference = 0.0;
+            for (int c = 0; c < 3; ++c)
+                difference += std::fabs(static_cast<double>(view.at(x, y, c)) - background[c]);
+            shell += difference > 0.1 ? 1 : 0;
+        }
+    EXPECT_GT(shell, 32 * 32 * 9 / 10) << "the centre of the window should show the sphere's weave";
+
+    // The same picture as `strata render --gdm`: the same renderer and picture function (gdm_picture.h) with
+    // the same camera, light and settings, the window holding its 8-bit rounding.
+    expectSameGdmPicture(view, reference, scene.output, render.output);
+
+    // The panels draw: the Scene panel covers the top-left corner, which without panels is background.
+    EXPECT_GT(meanAbsDiff(withPanels, view, 10, 10, 100, 60), 0.05);
+
+    // Technique and rank from the command line (the panel's controls set the same settings): march at rank
+    // 2 against strata render's, and a picture that differs from the first (measured: 9.4 % of the values
+    // more than 2/255 apart; the same settings give the same picture, as above, so 3 % tells them apart).
+    const std::string other = " --gdm-technique march --gdm-rank 2";
+    const test::CommandResult marched =
+        runUnderXvfb(viewer() + common + other + " --no-ui --screenshot " + quoted(dir / "march.png"));
+    ASSERT_EQ(marched.exitCode, 0) << marched.output;
+    const test::CommandResult renderMarched = test::runCli(
+        "render" + common + other + " --samples 1 --bit-depth 16 -o " + quoted(dir / "render-march.png"));
+    ASSERT_EQ(renderMarched.exitCode, 0) << renderMarched.output;
+    const Image march = readImage(dir / "march.png");
+    expectSameGdmPicture(march, readImage(dir / "render-march.png"), marched.output, renderMarched.output);
+    EXPECT_GT(percentApart(march, view), 3.0);
 }
 
 }  // namespace
