@@ -11,7 +11,10 @@ namespace strata::view {
 
 bool sameFrame(const GdmFrame& a, const GdmFrame& b) {
     return a.settings == b.settings && a.camera.eye == b.camera.eye && a.camera.target == b.camera.target &&
-           a.camera.up == b.camera.up && a.camera.fovYDegrees == b.camera.fovYDegrees && a.light == b.light &&
+           a.camera.up == b.camera.up && a.camera.fovYDegrees == b.camera.fovYDegrees &&
+           a.lighting.lightPosition == b.lighting.lightPosition &&
+           a.lighting.lightColor == b.lighting.lightColor && a.lighting.ambient == b.lighting.ambient &&
+           a.lighting.specular == b.lighting.specular && a.lighting.shininess == b.lighting.shininess &&
            a.width == b.width && a.height == b.height && a.samples == b.samples &&
            a.background == b.background && a.mesh == b.mesh;
 }
@@ -115,13 +118,14 @@ Image GdmView::render(const GdmFrame& frame) {
             const PrismShellOptions options = shellOptions(*mGdm, settings);
             mRenderer.setMesh(*mMesh, options);
             mRenderer.setVolumes(asset.occupancy, asset.albedo);
+            if (!asset.distance.empty()) mRenderer.setDistance(asset.distance);
             ++mShellBuilds;
             mUploadedShell = shell;
         }
-        Lighting lighting;
-        lighting.lightPosition = frame.light;
-        Image picture = gl::renderGdmPicture(mRenderer, frame.camera, lighting, gdmPictureSettings(frame),
-                                             settings.technique);
+        mRenderer.setLightFrame(settings.lightFrame);
+        mRenderer.setLighting(frame.lighting);
+        Image picture = gl::renderGdmPicture(mRenderer, frame.camera, frame.lighting,
+                                             gdmPictureSettings(frame), settings.technique);
         ++mRenders;
         return picture;
     } catch (...) {

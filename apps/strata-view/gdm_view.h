@@ -43,7 +43,8 @@ struct GdmViewSettings {
     int rank = 0;
     // T, the shell's thickness in world units (> 0); nullopt: H times the world length of one tile.
     std::optional<double> shellThickness;
-    double tiling = 1.0;  // tiles per unit of mesh uv, > 0
+    double tiling = 1.0;                              // tiles per unit of mesh uv, > 0
+    GdmLightFrame lightFrame = GdmLightFrame::World;  // the shadow lookup's light direction in texture space
 
     bool operator==(const GdmViewSettings&) const = default;
 };
@@ -52,8 +53,8 @@ struct GdmViewSettings {
 struct GdmFrame {
     GdmViewSettings settings;
     Camera camera;
-    glm::dvec3 light{0.0};  // the point light's position, world units (GdmRenderer uses only that)
-    int width = 1;          // pixels
+    Lighting lighting;  // the point light (position, world units) and the Blinn-Phong terms
+    int width = 1;      // pixels
     int height = 1;
     int samples = 1;                          // PictureSettings::samples: a k x k grid, k = round(sqrt(n))
     glm::dvec3 background{0.16, 0.17, 0.19};  // sRGB, PictureSettings::background

@@ -78,6 +78,10 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"gdm", "refine", "march"}));
     app.add_option("--gdm-rank", options.gdmRank,
                    "With --gdm: the SVD terms the lookups read (default: all the asset stores), or raw");
+    app.add_option("--gdm-light-frame", options.gdmLightFrame,
+                   "With --gdm: the shadow lookup's light direction in texture space: world (the paper's, "
+                   "default) or jacobian")
+        ->check(CLI::IsMember({"world", "jacobian"}));
     app.add_option("--shell-thickness", options.shellThickness,
                    "With --gdm: the prism shell's thickness T in world units (default: H times the world "
                    "length of one tile)")

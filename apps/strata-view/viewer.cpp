@@ -207,6 +207,7 @@ Viewer::Viewer(const ViewerOptions& options, Scene scene, Material material, Mes
         mGdmSettings.rank = mScene.gdm.rank == 0 ? mGdmDescription.storedRank : mScene.gdm.rank;
         mGdmSettings.shellThickness = mScene.gdm.shellThickness;
         mGdmSettings.tiling = mScene.relief.tiling;
+        mGdmSettings.lightFrame = mScene.gdm.lightFrame;
         // The worker draws with a context of its own, a hidden window's, current on its thread only.
         mGdmContext = std::make_unique<Window>(16, 16, "strata-view GDM", false, false);
         GLFWwindow* const context = mGdmContext->handle();
@@ -281,7 +282,7 @@ GdmFrame Viewer::gdmFrame(int width, int height) const {
     GdmFrame frame;
     frame.settings = mGdmSettings;
     frame.camera = mOrbit.camera();
-    frame.light = mScene.lighting.lightPosition;
+    frame.lighting = mScene.lighting;
     frame.width = width;
     frame.height = height;
     frame.samples = mGdmSamples;
@@ -541,13 +542,14 @@ void applyGdmOptions(const ViewerOptions& options, Scene& scene) {
         }
     }
     if (options.shellThickness) gdm.shellThickness = *options.shellThickness;
+    if (!options.gdmLightFrame.empty()) gdm.lightFrame = parseGdmLightFrame(options.gdmLightFrame);
     if (options.tiling) scene.relief.tiling = *options.tiling;
     if (gdm.source.empty()) {
-        if (!options.gdmTechnique.empty() || !options.gdmRank.empty() || options.shellThickness)
-            throw Error(
-                ErrorKind::Usage,
-                "--gdm-technique, --gdm-rank and --shell-thickness go with a GDM (--gdm, or a scene's "
-                "\"gdm\")");
+        if (!options.gdmTechnique.empty() || !options.gdmRank.empty() || options.shellThickness ||
+            !options.gdmLightFrame.empty())
+            throw Error(ErrorKind::Usage,
+                        "--gdm-technique, --gdm-rank, --gdm-light-frame and --shell-thickness go with a GDM "
+                        "(--gdm, or a scene's \"gdm\")");
         return;
     }
     if (!options.material.empty())

@@ -142,8 +142,7 @@ void Viewer::scenePanel() {
     bool lightChanged = sliderDouble("azimuth", mLightAzimuth, -180.0, 180.0, "%.0f deg");
     lightChanged |= sliderDouble("elevation", mLightElevation, -10.0, 90.0, "%.0f deg");
     if (lightChanged) updateLight();
-    // The GDM shading has its own ambient term (GdmRenderer::renderShaded takes the light's position only).
-    if (!mGdm) sliderDouble("ambient", mScene.lighting.ambient, 0.0, 1.0, "%.2f");
+    sliderDouble("ambient", mScene.lighting.ambient, 0.0, 1.0, "%.2f");
 
     section("camera");
     ImGui::TextColored(kDimColor, "left drag: orbit    wheel: zoom");
@@ -223,8 +222,17 @@ void Viewer::gdmControls() {
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip(
             "gdm: the paper's lookup, one GDM read per prism (Wang et al. 2004, Sec. 3.2)\n"
-            "refine: the lookup, then the occupancy's crossing near it\n"
+            "refine: exact steps on the asset's signed distance volume (beyond the paper)\n"
             "march: no GDM, the occupancy volume stepped every voxel (the slice-based baseline)");
+    static const char* const kLightFrames[] = {"world (paper)", "jacobian"};  // GdmLightFrame's order
+    int lightFrame = static_cast<int>(gdm.lightFrame);
+    if (ImGui::Combo("light frame", &lightFrame, kLightFrames, static_cast<int>(std::size(kLightFrames))))
+        gdm.lightFrame = static_cast<GdmLightFrame>(lightFrame);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "The shadow lookup's direction to the light in texture space:\n"
+            "world: the object-space direction as it is (the paper's approximation)\n"
+            "jacobian: mapped by each prism's own Jacobian");
 
     // Rank: the first K terms of the stored SVD (truncated on the worker, no re-bake), or the raw GDM.
     bool raw = gdm.rank == kGdmRankRaw;

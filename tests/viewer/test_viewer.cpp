@@ -474,7 +474,7 @@ GdmFrame sphereFrame(const SceneGdm& gdm, const Mesh& sphere, const GdmViewSetti
     frame.height = 48;
     frame.camera =
         frameCamera(gdmFramingBounds(sphere, gdmShell(gdm, sphere, settings).thickness), 64.0 / 48.0);
-    frame.light = Lighting{}.lightPosition;
+    frame.lighting = Lighting{};
     frame.mesh = 1;
     return frame;
 }
@@ -482,17 +482,17 @@ GdmFrame sphereFrame(const SceneGdm& gdm, const Mesh& sphere, const GdmViewSetti
 // What `strata render --gdm` draws for the frame: a fresh renderer with the GDM of that rank, the shell and
 // the volumes (render_gdm.cpp's steps).
 Image freshPicture(const SceneGdm& gdm, const Mesh& mesh, const GdmFrame& frame, const GdmSvd& svd) {
+    SceneGdm drawn = gdm;  // a tiny asset: the copy is cheap
+    drawn.raw = false;
+    drawn.svd = svd;
+    Scene scene;
+    scene.relief.tiling = frame.settings.tiling;
+    scene.gdm.shellThickness = frame.settings.shellThickness;
+    scene.gdm.lightFrame = frame.settings.lightFrame;
+    scene.lighting = frame.lighting;
     gl::GdmRenderer renderer;
-    renderer.setGdm(svd);
-    PrismShellOptions shell;
-    shell.height = svd.height;
-    shell.tiling = glm::dvec2(frame.settings.tiling);
-    shell.thickness = frame.settings.shellThickness;
-    renderer.setMesh(mesh, shell);
-    renderer.setVolumes(gdm.asset.occupancy, gdm.asset.albedo);
-    Lighting lighting;
-    lighting.lightPosition = frame.light;
-    return gl::renderGdmPicture(renderer, frame.camera, lighting, gdmPictureSettings(frame),
+    gl::prepareGdmRenderer(renderer, drawn, mesh, scene);
+    return gl::renderGdmPicture(renderer, frame.camera, frame.lighting, gdmPictureSettings(frame),
                                 frame.settings.technique);
 }
 
