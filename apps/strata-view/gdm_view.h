@@ -43,8 +43,9 @@ struct GdmViewSettings {
     int rank = 0;
     // T, the shell's thickness in world units (> 0); nullopt: H times the world length of one tile.
     std::optional<double> shellThickness;
-    double tiling = 1.0;                              // tiles per unit of mesh uv, > 0
-    GdmLightFrame lightFrame = GdmLightFrame::World;  // the shadow lookup's light direction in texture space
+    double tiling = 1.0;  // tiles per unit of mesh uv, > 0
+    GdmLightFrame lightFrame =
+        GdmLightFrame::Tangent;  // the shadow lookup's light direction in texture space
 
     bool operator==(const GdmViewSettings&) const = default;
 };

@@ -79,9 +79,9 @@ int main(int argc, char** argv) {
     app.add_option("--gdm-rank", options.gdmRank,
                    "With --gdm: the SVD terms the lookups read (default: all the asset stores), or raw");
     app.add_option("--gdm-light-frame", options.gdmLightFrame,
-                   "With --gdm: the shadow lookup's light direction in texture space: world (the paper's, "
+                   "With --gdm: the shadow lookup's light direction in texture space: tangent (the paper's, "
                    "default) or jacobian")
-        ->check(CLI::IsMember({"world", "jacobian"}));
+        ->check(CLI::IsMember({"tangent", "jacobian"}));
     app.add_option("--shell-thickness", options.shellThickness,
                    "With --gdm: the prism shell's thickness T in world units (default: H times the world "
                    "length of one tile)")

@@ -33,7 +33,7 @@ struct ViewerOptions {
     std::string gdm;
     std::string gdmTechnique;              // "gdm" | "refine" | "march"; "" = the scene's
     std::string gdmRank;                   // "K" | "raw"; "" = the scene's (the stored rank)
-    std::string gdmLightFrame;             // "world" | "jacobian"; "" = the scene's (world)
+    std::string gdmLightFrame;             // "tangent" | "jacobian"; "" = the scene's (tangent)
     std::optional<double> shellThickness;  // T, world units (> 0); unset = the scene's (H x tile length)
     std::optional<double> tiling;          // tiles per unit of mesh uv (> 0); unset = the scene's
 };

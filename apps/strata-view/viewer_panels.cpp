@@ -224,14 +224,14 @@ void Viewer::gdmControls() {
             "gdm: the paper's lookup, one GDM read per prism (Wang et al. 2004, Sec. 3.2)\n"
             "refine: exact steps on the asset's signed distance volume (beyond the paper)\n"
             "march: no GDM, the occupancy volume stepped every voxel (the slice-based baseline)");
-    static const char* const kLightFrames[] = {"world (paper)", "jacobian"};  // GdmLightFrame's order
+    static const char* const kLightFrames[] = {"tangent (paper)", "jacobian"};  // GdmLightFrame's order
     int lightFrame = static_cast<int>(gdm.lightFrame);
     if (ImGui::Combo("light frame", &lightFrame, kLightFrames, static_cast<int>(std::size(kLightFrames))))
         gdm.lightFrame = static_cast<GdmLightFrame>(lightFrame);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip(
             "The shadow lookup's direction to the light in texture space:\n"
-            "world: the object-space direction as it is (the paper's approximation)\n"
+            "tangent: the direction in the surface's frame T, B, N (the paper's approximation)\n"
             "jacobian: mapped by each prism's own Jacobian");
 
     // Rank: the first K terms of the stored SVD (truncated on the worker, no re-bake), or the raw GDM.

@@ -120,9 +120,9 @@ void runGdmTrace(const GdmTraceOptions& options) {
         throw Error(ErrorKind::Usage, "gdm trace: --technique is the OpenGL renderer's: give --gl with it");
     if (!options.lightFrame.empty() && !options.gl)
         throw Error(ErrorKind::Usage, "gdm trace: --light-frame is the OpenGL renderer's: give --gl with it");
-    if (!options.lightFrame.empty() && options.lightFrame != "world" && options.lightFrame != "jacobian")
-        throw Error(ErrorKind::Usage,
-                    "gdm trace: --light-frame must be world or jacobian, got \"" + options.lightFrame + "\"");
+    if (!options.lightFrame.empty() && options.lightFrame != "tangent" && options.lightFrame != "jacobian")
+        throw Error(ErrorKind::Usage, "gdm trace: --light-frame must be tangent or jacobian, got \"" +
+                                          options.lightFrame + "\"");
     const std::string techniqueName = options.technique.empty() ? "gdm" : options.technique;
     if (techniqueName != "gdm" && techniqueName != "refine" && techniqueName != "march")
         throw Error(ErrorKind::Usage,
@@ -316,7 +316,7 @@ void addGdmTraceCommand(CLI::App& gdm) {
         "march (the occupancy every voxel, no GDM)");
     command->add_option(
         "--light-frame", options->lightFrame,
-        "With --gl: the shadow lookup's light direction in texture space, world (the paper's, "
+        "With --gl: the shadow lookup's light direction in texture space, tangent (the paper's, "
         "default) or jacobian (mapped by each prism's own Jacobian)");
     command->add_option("--lookup", options->lookup,
                         "Direction lookup of the emulation: nearest (default) or bilinear");

@@ -127,11 +127,12 @@ void addSceneFlags(CLI::App& command, SceneFlags& f) {
                        "With --gdm: the SVD terms the lookups read (default: all the asset stores, 8 for a "
                        "built-in), or raw (the raw GDM)");
     command
-        .add_option(
-            "--gdm-light-frame", f.gdmLightFrame,
-            "With --gdm: the shadow lookup's light direction in texture space: world (the paper's) or "
-            "jacobian (mapped by each prism's own Jacobian)")
-        ->check(CLI::IsMember({"world", "jacobian"}));
+        .add_option("--gdm-light-frame", f.gdmLightFrame,
+                    "With --gdm: the shadow lookup's light direction in texture space: tangent (in the "
+                    "surface's frame, "
+                    "the paper's) or "
+                    "jacobian (mapped by each prism's own Jacobian)")
+        ->check(CLI::IsMember({"tangent", "jacobian"}));
     command.add_option("--shell-thickness", f.shellThickness,
                        "With --gdm: the prism shell's thickness T in world units (default: H times the world "
                        "length of one tile)");

@@ -20,7 +20,8 @@
 //
 // Outputs (uOutput): 0 uvw: (u, v modulo 1, w, 1); 1 shadow: (lit, 0, 0, 1), lit iff the lookup towards the
 // light from one voxel back along V, leaving out the corners below half a voxel, is an exit (emulateGdm's
-// rule, with the object-space light direction as L_t, the paper's choice, or with it mapped by the prism's
+// rule, with the object-space light direction (in the surface's T, B, N frame) as L_t, the paper's choice, or
+// with it mapped by the prism's
 // inverse Jacobian: textureLight); refine on the signed distance volume traces the shadow on it instead
 // (litByDistance); 2 prism id + 1, no GDM (the crack test of gdm_renderer.h); 3 shaded: (linear RGB, 1),
 // shade() below, with that shadow.
@@ -300,16 +301,24 @@ vec3 traceDistance(vec3 start, vec3 direction, float to, float minStep) {
     return vec3(s, 1.0, 1.0);
 }
 
-// The direction to the light in the isotropic texture frame: the world one (the paper's), or mapped by the
+// The direction to the light in the isotropic texture frame: the world one in the surface's frame (the
+// paper's), or mapped by the
 // prism's inverse Jacobian.
 vec3 textureLight(vec3 worldPoint) {
     vec3 toLight = uLight - worldPoint;
     if (uJacobianLight) {
         int row = int(vIn.prism) * 3;
-        toLight = vec3(dot(lightFrames[row].xyz, toLight), dot(lightFrames[row + 1].xyz, toLight),
-                       dot(lightFrames[row + 2].xyz, toLight));
+        // A degenerate prism's rows are zero: it keeps the tangent frame below.
+        if (lightFrames[row].xyz != vec3(0.0))
+            return normalize(vec3(dot(lightFrames[row].xyz, toLight), dot(lightFrames[row + 1].xyz, toLight),
+                                  dot(lightFrames[row + 2].xyz, toLight)));
     }
-    return normalize(toLight);
+    // The paper's "object space light direction": the direction in the surface's own frame at the hit, T, B
+    // and N interpolated from the mesh (on the flat quad, world x, y, z).
+    vec3 n = normalize(vIn.normal);
+    vec3 t = normalize(vIn.tangent - dot(vIn.tangent, n) * n);
+    vec3 b = normalize(vIn.bitangent - dot(vIn.bitangent, n) * n - dot(vIn.bitangent, t) * t);
+    return normalize(vec3(dot(toLight, t), dot(toLight, b), dot(toLight, n)));
 }
 
 // Refine's shadow on the signed distance: lit iff the normal (volumeNormal) faces the light and sphere
@@ -345,6 +354,12 @@ void main() {
         vec3 p0 = faces[base + 6 * f + 0].xyz, p1 = faces[base + 6 * f + 2].xyz, p2 = faces[base + 6 * f + 4].xyz;
         // Moeller-Trumbore.
         vec3 e1 = p1 - p0, e2 = p2 - p0;
+        // Only a face the ray leaves the prism through can be its exit: the top and the fins are wound
+        // outward from the prism, the base (face 0) along +N, into it. Without this test a face that shares
+        // an edge with the entry face, met within the edge tolerance a hair past the entry, ends the
+        // segment at once, and the prism shows nothing along its edges (rays then hit deeper prisms).
+        float leaving = dot(ray, cross(e1, e2));
+        if ((f == 0 ? -leaving : leaving) <= 0.0) continue;
         vec3 q = cross(ray, e2);
         float det = dot(e1, q);
         if (abs(det) < 1e-12) continue;

@@ -1,6 +1,7 @@
 #version 450 core
 // Vertex stage of the GDM program (Wang et al. 2004, Sec. 3.2 and 4.2): the faces of the prism shell
-// (strata/gdm/prism_shell.h) that a ray can enter a prism through, its top and its fins, each vertex with
+// (strata/gdm/prism_shell.h) that a ray can enter a prism through, its top, its fins and (turned
+// over, for rays from below) its base, each vertex with
 // its world position, its texture-space position in the isotropic frame (u, v, w H) of CONVENTIONS §8, and
 // its prism.
 

@@ -80,7 +80,7 @@ struct GdmRenderer::Impl {
     Buffer signedDistance;  // per voxel, for refine and the normals
     bool hasDistance = false;
     glm::ivec3 distanceVoxels{1};
-    GdmLightFrame lightFrame = GdmLightFrame::World;
+    GdmLightFrame lightFrame = GdmLightFrame::Tangent;
     Lighting lighting;  // colour, ambient, specular and shininess of the shaded picture
     // The mesh's shell: entry faces (tops and fins) and base faces to draw, every prism's 8 triangles for
     // the exit search, and the shell's bounds.
@@ -267,10 +267,10 @@ void GdmRenderer::setMesh(const Mesh& mesh, const PrismShellOptions& shellOption
         }
         const glm::dmat3 jacobian = gdmPrismJacobian(prismBase, prismTop, prismTile, options.height);
         const double determinant = glm::determinant(jacobian);
-        // A degenerate prism keeps the world direction (the identity).
+        // A degenerate prism keeps the tangent-frame direction (marked by a zero first row).
         const glm::dmat3 inverse = std::isfinite(determinant) && std::abs(determinant) > 1e-300
                                        ? glm::inverse(jacobian)
-                                       : glm::dmat3(1.0);
+                                       : glm::dmat3(0.0);
         // glm is column-major: row r of the inverse is (inverse[0][r], inverse[1][r], inverse[2][r]).
         for (int r = 0; r < 3; ++r)
             lightFrames.emplace_back(float(inverse[0][r]), float(inverse[1][r]), float(inverse[2][r]), 0.0f);

@@ -74,8 +74,8 @@ const char* toString(GdmTechnique technique) {
 
 const char* toString(GdmLightFrame frame) {
     switch (frame) {
-        case GdmLightFrame::World:
-            return "world";
+        case GdmLightFrame::Tangent:
+            return "tangent";
         case GdmLightFrame::Jacobian:
             return "jacobian";
     }
@@ -111,11 +111,11 @@ GdmTechnique parseGdmTechnique(const std::string& text) {
 }
 
 GdmLightFrame parseGdmLightFrame(const std::string& text) {
-    for (GdmLightFrame f : {GdmLightFrame::World, GdmLightFrame::Jacobian}) {
+    for (GdmLightFrame f : {GdmLightFrame::Tangent, GdmLightFrame::Jacobian}) {
         if (text == toString(f)) return f;
     }
     throw Error(ErrorKind::InvalidInput,
-                "unknown GDM light frame '" + text + "' (expected world or jacobian)");
+                "unknown GDM light frame '" + text + "' (expected tangent or jacobian)");
 }
 
 int parseGdmRank(const std::string& text) {
@@ -198,7 +198,7 @@ void validate(const GdmSettings& gdm, const PictureSettings& picture) {
                                : " is a GDM output (give a gdm); a relief render draws shaded, uv, shadow or "
                                  "depth"));
     if (!isGdm && (gdm.technique != GdmTechnique::Gdm || gdm.rank != 0 || gdm.shellThickness ||
-                   gdm.lightFrame != GdmLightFrame::World))
+                   gdm.lightFrame != GdmLightFrame::Tangent))
         throw Error(
             ErrorKind::InvalidInput,
             "gdm_technique, gdm_rank, shell_thickness and gdm_light_frame are for a GDM render: give a "

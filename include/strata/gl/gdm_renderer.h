@@ -39,7 +39,8 @@ GdmSceneImages renderGdmScene(const GdmSvd& svd, const Camera& camera, glm::dvec
 
 // The same algorithm on the prism shell of any mesh (buildPrismShell with `shell`; its height is the GDM's
 // H): each prism corner's texture position is (tiling * uv of its mesh vertex, 0 at the base or H at the
-// top), and the light direction in texture space is the world one (the paper's approximation). The
+// top), and the light direction in texture space is the world one in the surface's frame (T, B, N; the
+// paper's approximation, GdmLightFrame). The
 // outputs are those of GdmSceneImages, with u, v the tile coordinates modulo 1: the mask and uvw of
 // CONVENTIONS §8 on a curved base. Throws as renderGdmScene, and as buildPrismShell for the mesh.
 GdmSceneImages renderGdmMesh(const Gdm& gdm, const Mesh& mesh, const PrismShellOptions& shell,
@@ -67,7 +68,8 @@ enum class PrismFaces { Base, Shell };
 using GdmTechnique = strata::GdmTechnique;
 
 // How the shadow lookup takes the direction to the light into texture space (issue 18, "Local shadows"):
-//  World     the world direction as the texture-space one (the paper's approximation, Sec. 3.2). Default.
+//  Tangent   the world direction in the surface's frame at the hit (the mesh's interpolated T, B, N,
+//            normalised): (L.T, L.B, L.N), unscaled (the paper's approximation, Sec. 3.2). Default.
 //  Jacobian  the world direction mapped by J^-1, J the prism's own Jacobian (gdmPrismJacobian); normalised.
 using GdmLightFrame = strata::GdmLightFrame;
 
@@ -76,7 +78,7 @@ using GdmLightFrame = strata::GdmLightFrame;
 // coordinates `tile`, tiling * uv) and the mean of the three extrusions (top - base) divided by `height`
 // (H). Where the flat quad's texture frame is world (tiling 1, T = H) it is the identity. Returns a matrix
 // whose determinant is 0 for a triangle whose tile coordinates are degenerate (GdmRenderer then keeps the
-// world direction for that prism).
+// tangent-frame direction for that prism).
 glm::dmat3 gdmPrismJacobian(const std::array<glm::dvec3, 3>& base, const std::array<glm::dvec3, 3>& top,
                             const std::array<glm::dvec2, 3>& tile, double height);
 
@@ -118,7 +120,7 @@ public:
     // e.g. finer than the GDM's (bakeGdmDistance at those dims). Throws as above for a size that is not
     // distance.size().
     void setDistance(const std::vector<float>& distance, glm::ivec3 size);
-    // The frame of the shadow lookup's light direction; World until set. Kept across setGdm and setMesh.
+    // The frame of the shadow lookup's light direction; Tangent until set. Kept across setGdm and setMesh.
     void setLightFrame(GdmLightFrame frame);
     // The shaded picture's Blinn-Phong terms, as the relief renderer's (render_settings.h: ambient times the
     // albedo; where lit, the light's colour times diffuse times the albedo plus specular); the light's
@@ -127,8 +129,9 @@ public:
     void setLighting(const Lighting& lighting);
     // Whether a ray that comes through the base surface from below (from the mesh's inside, or from behind
     // an open mesh: the base is not solid, §8) enters the prism there, so that the far side of a mesh shows
-    // through the holes of the near one, as the exact curved reference (gdm_mesh_reference.h) has it. Not
-    // the paper's (it enters prisms through their tops and fins). Default true; the §8 verification scene
+    // through the holes of the near one, as the exact curved reference (gdm_mesh_reference.h) has it. The
+    // paper's Sec. 3.2 rasterises each prism's "forward-facing sides, which may include prism fins and
+    // triangles of the base surface". Default true; the §8 verification scene
     // (renderGdmScene, `strata gdm trace`) turns it off: there a ray that enters the box through its bottom
     // is a miss.
     void setBaseEntry(bool enabled);

@@ -85,7 +85,8 @@ enum class GdmTechnique {
 
 // How a GDM render's shadow lookup takes the direction to the light into texture space:
 enum class GdmLightFrame {
-    World,     // the world direction as it is: the paper's approximation (Sec. 3.2). Default.
+    Tangent,   // the direction in the surface's local frame (T, B, N), unscaled: the paper's approximation
+               // (Sec. 3.2: "the object space light direction", as horizon maps and VDM take it). Default.
     Jacobian,  // mapped by the inverse of each prism's own Jacobian from texture to world (not the paper's)
 };
 
@@ -102,7 +103,7 @@ struct GdmSettings {
     int rank = 0;
     // T, the shell's thickness in world units (> 0). nullopt: H times the world length of one tile (§8).
     std::optional<double> shellThickness;
-    GdmLightFrame lightFrame = GdmLightFrame::World;
+    GdmLightFrame lightFrame = GdmLightFrame::Tangent;
 };
 inline constexpr int kGdmRankRaw = -1;
 
