@@ -3,12 +3,12 @@
 //
 // Conditions: each scene as `strata render` reads it (its mesh, GDM, rank, tiling, camera and light), its
 // built-in mesostructure baked once per process at `strata gdm bake`'s defaults (64 x 64 x 16 voxels, 16 x 32
-// directions, rank 8; the raw GDM where the scene asks for it) before any timing; a headless OpenGL 4.5
+// directions, rank 8, the signed distance volume) before any timing; a headless OpenGL 4.5
 // context (llvmpipe on the 2-core build machine, or a GPU where there is one). A frame is
 // gl::renderGdmPicture of the shaded picture at 512 x 512 with one sample per pixel: the draw, its read-back
-// and the conversion to sRGB. Counters: gpu_MiB, the storage buffers the GDM renderer holds for the scene
-// (the GDM: the SVD's weight and eigen maps, or the raw values; the occupancy and albedo volumes; the shell's
-// per-prism faces).
+// and the conversion to sRGB. Counters: the buffers the GDM renderer holds for the scene
+// (GdmRenderer::gpuMemory): the GDM (the SVD's maps, or the raw values), the volumes (occupancy, albedo,
+// signed distance), the shell, and their total.
 // Run: build/ci/bench/bench_gdm_scenes --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include "strata/gdm/prism_shell.h"
 #include "strata/gdm/scene_gdm.h"
@@ -67,14 +67,12 @@ void frame(benchmark::State& state, const std::string& name, strata::GdmTechniqu
         benchmark::DoNotOptimize(image.row(0));
     }
     const strata::PrismShell prisms = strata::buildPrismShell(l.mesh, shell);
-    const double gdmBytes =
-        l.gdm.raw ? double(l.gdm.asset.raw->values.size() * sizeof(float)) : double(l.gdm.svd.mapBytes());
-    // The shell's buffer: 48 vec4 per prism (gdm_renderer.cpp); the volumes: occupancy as one float per
-    // voxel, albedo three (linear).
-    const double volumeBytes =
-        double(l.gdm.asset.occupancy.size()) * 4.0 * (l.gdm.asset.albedo.empty() ? 1 : 4);
-    const double shellBytes = double(prisms.prisms.size()) * 48.0 * 16.0;
-    state.counters["gpu_MiB"] = (gdmBytes + volumeBytes + shellBytes) / double(1 << 20);
+    const strata::gl::GdmGpuMemory memory = renderer.gpuMemory();
+    constexpr double kMiB = 1 << 20;
+    state.counters["gpu_MiB"] = double(memory.total()) / kMiB;
+    state.counters["gdm_MiB"] = double(memory.gdm) / kMiB;
+    state.counters["volumes_MiB"] = double(memory.volumes) / kMiB;
+    state.counters["shell_MiB"] = double(memory.shell) / kMiB;
     state.counters["prisms"] = double(prisms.prisms.size());
     state.SetLabel(l.gdm.description);
 }

@@ -39,7 +39,7 @@ in VertexData {
 } vIn;
 
 layout(location = 0) out vec4 fragColor;
-layout(depth_any) out float gl_FragDepth;
+layout(depth_greater) out float gl_FragDepth;
 
 // Per prism, 8 triangles x 3 corners x (world position, texture position): 48 vec4 (w unused).
 layout(std430, binding = 0) readonly buffer PrismFaces { vec4 faces[]; };

@@ -31,6 +31,7 @@ namespace {
 // A buffer object that deletes itself.
 struct Buffer {
     GLuint id = 0;
+    std::size_t bytes = 0;  // of the store
     Buffer() { glCreateBuffers(1, &id); }
     ~Buffer() { glDeleteBuffers(1, &id); }
     Buffer(const Buffer&) = delete;
@@ -41,7 +42,7 @@ struct Buffer {
         glDeleteBuffers(1, &id);
         glCreateBuffers(1, &id);
         // A zero-size buffer cannot be bound as storage on every driver: keep at least one element.
-        const std::size_t bytes = std::max<std::size_t>(data.size() * sizeof(T), 16);
+        bytes = std::max<std::size_t>(data.size() * sizeof(T), 16);
         glNamedBufferStorage(id, GLsizeiptr(bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
         if (!data.empty()) glNamedBufferSubData(id, 0, GLsizeiptr(data.size() * sizeof(T)), data.data());
     }
@@ -392,6 +393,15 @@ void GdmRenderer::setDistance(const std::vector<float>& distance, glm::ivec3 siz
 
 void GdmRenderer::setLightFrame(GdmLightFrame frame) {
     mImpl->lightFrame = frame;
+}
+
+GdmGpuMemory GdmRenderer::gpuMemory() const {
+    const Impl& m = *mImpl;
+    GdmGpuMemory memory;
+    memory.gdm = m.weights.bytes + m.eigen.bytes + m.raw.bytes;
+    memory.volumes = m.occupancy.bytes + m.albedo.bytes + m.signedDistance.bytes;
+    memory.shell = m.entryVertices.bytes + m.baseVertices.bytes + m.faces.bytes + m.lightFrames.bytes;
+    return memory;
 }
 
 void GdmRenderer::setBaseEntry(bool enabled) {

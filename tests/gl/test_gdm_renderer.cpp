@@ -406,6 +406,29 @@ TEST(GdmProgram, PassesGlslangValidator) {
         << "see " << (dir / "log.txt").string();
 }
 
+TEST_F(GdmRendererGl, CountsTheMemoryItHolds) {
+    const Gdm& gdm = weave().gdm;
+    const GdmSvd svd = compressGdm(gdm, 8);
+    gl::GdmRenderer renderer;
+    // An unused storage buffer keeps 16 bytes (a zero-size one cannot be bound on every driver).
+    constexpr std::size_t kEmpty = 16;
+    renderer.setGdm(svd);
+    EXPECT_EQ(renderer.gpuMemory().gdm, svd.mapBytes() + kEmpty);
+    renderer.setGdm(gdm);
+    EXPECT_EQ(renderer.gpuMemory().gdm, gdm.values.size() * sizeof(float) + 2 * kEmpty);
+    // The volumes: a float per voxel of occupancy, three of linear albedo, one of signed distance.
+    const std::size_t voxels = gdm.dims.voxelCount();
+    renderer.setVolumes(gdmOccupancy(gdm), std::vector<std::uint8_t>(3 * voxels, 128));
+    renderer.setDistance(std::vector<float>(voxels, 0.1f));
+    EXPECT_EQ(renderer.gpuMemory().volumes, 5 * voxels * sizeof(float));
+    // The shell: per prism 8 triangles x 3 corners x 2 vec4 of faces, 3 rows of its light frame, and its
+    // vertices (7 entry triangles, the base twice: as the base and turned over).
+    renderer.setMesh(makeBuiltinMesh("quad"), {});
+    const gl::GdmGpuMemory memory = renderer.gpuMemory();
+    EXPECT_GT(memory.shell, 2 * (48 + 3) * 16u);
+    EXPECT_EQ(memory.total(), memory.gdm + memory.volumes + memory.shell);
+}
+
 TEST_F(GdmRendererGl, RefusesOtherLayouts) {
     const GdmSvd svd = compressGdm(weave().gdm, 2, GdmLayout::XyzByThetaPhi);
     EXPECT_THROW(gl::renderGdmScene(svd, viewAt(45.0), kLight, 16, 16), Error);

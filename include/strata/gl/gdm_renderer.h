@@ -82,6 +82,14 @@ using GdmLightFrame = strata::GdmLightFrame;
 glm::dmat3 gdmPrismJacobian(const std::array<glm::dvec3, 3>& base, const std::array<glm::dvec3, 3>& top,
                             const std::array<glm::dvec2, 3>& tile, double height);
 
+// Bytes of the storage and vertex buffers a GdmRenderer holds (the render target not counted).
+struct GdmGpuMemory {
+    std::size_t gdm = 0;      // the SVD's weight and eigen maps, or the raw GDM (floats)
+    std::size_t volumes = 0;  // occupancy, linear albedo and signed distance (floats per voxel)
+    std::size_t shell = 0;    // the prisms' faces, vertices and light frames
+    std::size_t total() const { return gdm + volumes + shell; }
+};
+
 // The renderer behind the functions above, for drawing many pictures: the program is built once, the GDM
 // and the mesh's shell are uploaded once (storage buffers), and each render() draws and reads back. Needs
 // the context that made it to be current in every call, and when it is destroyed.
@@ -135,6 +143,9 @@ public:
     // (renderGdmScene, `strata gdm trace`) turns it off: there a ray that enters the box through its bottom
     // is a miss.
     void setBaseEntry(bool enabled);
+
+    // What the renderer holds on the GPU now.
+    GdmGpuMemory gpuMemory() const;
 
     // A shaded picture: linear RGB and alpha 1 on a hit, all 0 elsewhere. The normal is the signed
     // distance's gradient where there is one (setDistance), else minus the occupancy's, at the hit (central
