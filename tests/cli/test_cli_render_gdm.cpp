@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -96,6 +97,31 @@ TEST_F(CliRenderGdm, ShadedMeshIsDrawnOverTheBackground) {
     EXPECT_GT(differs, 16 * 16 * 0.5);
 }
 
+TEST_F(CliRenderGdm, LightFrameChangesOnlyTheShadowsOfAStretchedMesh) {
+    // The sphere at tiling 2 has tiles stretched 2 : 1 (u runs 3.14 around, v 1.57 pole to pole), where the
+    // Jacobian's light direction differs from the tangent frame's; the hits do not change.
+    Image pictures[2][2];
+    for (int f = 0; f < 2; ++f)
+        for (int o = 0; o < 2; ++o) {
+            const char* frame = f == 0 ? "tangent" : "jacobian";
+            const char* output = o == 0 ? "mask" : "shadow";
+            const fs::path out = *dir / (std::string("frame_") + frame + "_" + output + ".png");
+            const auto render =
+                runCli("render --gdm " + quoted(*dir / "weave") +
+                       " --mesh sphere --tessellation 4 --tiling 2 --size 96x96 --gdm-light-frame " + frame +
+                       " --output " + output + " -o " + quoted(out));
+            SKIP_WITHOUT_GL(render);
+            ASSERT_EQ(render.exitCode, 0) << render.output;
+            pictures[f][o] = readImage(out);
+        }
+    EXPECT_EQ(test::maxAbsDiff(pictures[0][0], pictures[1][0]), 0.0);
+    int differ = 0;
+    for (int y = 0; y < 96; ++y)
+        for (int x = 0; x < 96; ++x) differ += pictures[0][1].at(x, y) != pictures[1][1].at(x, y);
+    EXPECT_GT(differ, 0);
+    std::printf("light frame: %d of %d shadow pixels differ\n", differ, 96 * 96);
+}
+
 TEST_F(CliRenderGdm, ErrorsHaveTheirCodesAndWriteNothing) {
     const fs::path out = *dir / "error.png";
     const std::string small = " --mesh quad --size 16x16 -o " + quoted(out);
@@ -110,6 +136,7 @@ TEST_F(CliRenderGdm, ErrorsHaveTheirCodesAndWriteNothing) {
         {weave + " --gdm-rank two" + small, 1, "--gdm-rank"},
         {weave + " --material stone-bricks" + small, 1, "--material"},
         {weave + " --gdm-technique exact" + small, 1, "--gdm-technique"},
+        {weave + " --gdm-light-frame sideways" + small, 1, "--gdm-light-frame"},
         // Invalid input (3): neither an asset nor a built-in, a rank above the stored one, raw without
         // raw.f32,
         // a relief output with a GDM, a GDM setting without one, a thickness <= 0.
@@ -126,6 +153,15 @@ TEST_F(CliRenderGdm, ErrorsHaveTheirCodesAndWriteNothing) {
         SKIP_WITHOUT_GL(result);
         EXPECT_EQ(result.exitCode, c.code) << result.output;
         EXPECT_NE(result.output.find(c.says), std::string::npos) << result.output;
+        EXPECT_FALSE(fs::exists(out));
+    }
+    // `strata gdm trace --light-frame` is the OpenGL renderer's (1 without --gl), tangent or jacobian.
+    for (const std::string& args :
+         {std::string(" --light-frame jacobian"), std::string(" --gl --light-frame world")}) {
+        const auto trace =
+            runCli("gdm trace " + quoted(*dir / "weave") + args + " --output mask -o " + quoted(out));
+        EXPECT_EQ(trace.exitCode, 1) << trace.output;
+        EXPECT_NE(trace.output.find("--light-frame"), std::string::npos) << trace.output;
         EXPECT_FALSE(fs::exists(out));
     }
     // A directory that is not an asset (2), and an output that is one of the asset's files (2): untouched.
