@@ -74,7 +74,6 @@ uniform int uRank;         // k; 0: the raw GDM
 uniform float uTolerance;  // the exit rule's, tile widths along the ray
 uniform bool uBilinearDirections;
 
-const float kPi = 3.14159265358979;
 const float kShadowBackoffVoxels = 1.0;
 const float kShadowDropVoxels = 0.5;
 // Refine on the signed distance volume: each step is this fraction of the distance there (the trilinear
@@ -86,18 +85,18 @@ const float kMinStepVoxels = 0.1;
 const int kMaxSteps = 96;
 const int kPolishSteps = 6;
 
-float boundaryDistance(int k, int t) {
-    float z = (float(k) + 0.5) * uHeight / float(uVoxels.z);
-    float c = cos((float(t) + 0.5) * kPi / float(uDirections.x));
-    return c > 0.0 ? (uHeight - z) / c : z / -c;
+#include "shared/gdm_lookup.h"
+
+GdmLookupParams gdmParams() {
+    return GdmLookupParams(uVoxels, uDirections, uHeight, uTolerance, uBilinearDirections);
 }
 
-// The substituted value at voxel (i, j, k), direction (t, s).
+// The shared lookup's fetch: the substituted value at voxel (i, j, k), direction (t, s).
 float gdmValue(int i, int j, int k, int t, int s) {
     if (uRank == 0) {
         int index = (((k * uVoxels.y + j) * uVoxels.x + i) * uDirections.x + t) * uDirections.y + s;
         float value = rawValues[index];
-        return isinf(value) ? boundaryDistance(k, t) : value;
+        return isinf(value) ? gdmBoundaryDistance(gdmParams(), k, t) : value;
     }
     int row = s + uDirections.y * (i + uVoxels.x * j);
     int col = t + uDirections.x * k;
@@ -107,60 +106,9 @@ float gdmValue(int i, int j, int k, int t, int s) {
     return sum;
 }
 
-// d(point, direction): x = distance, y = 1 for an exit (dmax).
+// d(point, direction): x = distance, y = 1 for an exit (dmax); shared/gdm_lookup.h.
 vec2 lookupGdm(vec3 point, vec3 direction, float dropBelow) {
-    float theta = acos(clamp(direction.z, -1.0, 1.0));
-    float phi = atan(direction.y, direction.x);
-    if (phi < 0.0) phi += 2.0 * kPi;
-    int tapT[4];
-    int tapS[4];
-    float tapWeight[4];
-    int taps = 0;
-    if (!uBilinearDirections) {
-        tapT[0] = clamp(int(theta / kPi * float(uDirections.x)), 0, uDirections.x - 1);
-        tapS[0] = clamp(int(phi / (2.0 * kPi) * float(uDirections.y)), 0, uDirections.y - 1);
-        tapWeight[0] = 1.0;
-        taps = 1;
-    } else {
-        float ft = clamp(theta / kPi * float(uDirections.x) - 0.5, 0.0, float(uDirections.x - 1));
-        float fs = phi / (2.0 * kPi) * float(uDirections.y) - 0.5;
-        float t0 = floor(ft), s0 = floor(fs);
-        float at = ft - t0, as = fs - s0;
-        for (int corner = 0; corner < 4; ++corner) {
-            int dt = corner & 1, ds = corner >> 1;
-            float weight = (dt == 1 ? at : 1.0 - at) * (ds == 1 ? as : 1.0 - as);
-            if (weight == 0.0) continue;
-            tapT[taps] = min(int(t0) + dt, uDirections.x - 1);
-            tapS[taps] = ((int(s0) + ds) % uDirections.y + uDirections.y) % uDirections.y;
-            tapWeight[taps] = weight;
-            ++taps;
-        }
-    }
-    float fx = point.x * float(uVoxels.x) - 0.5;
-    float fy = point.y * float(uVoxels.y) - 0.5;
-    float fz = clamp(point.z / uHeight * float(uVoxels.z) - 0.5, 0.0, float(uVoxels.z - 1));
-    float x0 = floor(fx), y0 = floor(fy), z0 = floor(fz);
-    float ax = fx - x0, ay = fy - y0, az = fz - z0;
-    float d = 0.0, b = 0.0, total = 0.0;
-    for (int corner = 0; corner < 8; ++corner) {
-        int dx = corner & 1, dy = (corner >> 1) & 1, dz = corner >> 2;
-        float weight = (dx == 1 ? ax : 1.0 - ax) * (dy == 1 ? ay : 1.0 - ay) * (dz == 1 ? az : 1.0 - az);
-        if (weight == 0.0) continue;
-        int i = ((int(x0) + dx) % uVoxels.x + uVoxels.x) % uVoxels.x;
-        int j = ((int(y0) + dy) % uVoxels.y + uVoxels.y) % uVoxels.y;
-        int k = min(int(z0) + dz, uVoxels.z - 1);
-        for (int tap = 0; tap < taps; ++tap) {
-            float value = gdmValue(i, j, k, tapT[tap], tapS[tap]);
-            if (value < dropBelow) continue;
-            float w = weight * tapWeight[tap];
-            d += w * value;
-            b += w * boundaryDistance(k, tapT[tap]);
-            total += w;
-        }
-    }
-    if (total == 0.0) return vec2(0.0, 0.0);
-    if (d >= b - uTolerance) return vec2(1e30, 1.0);
-    return vec2(max(d, 0.0), 0.0);
+    return gdmLookup(gdmParams(), point, direction, dropBelow);
 }
 
 int voxelIndex(int i, int j, int k) {

@@ -33,14 +33,18 @@ namespace strata::shared {
 // The GLSL types and built-in functions the shared headers use.
 using glm::bvec2;
 using glm::ivec2;
+using glm::ivec3;
 using glm::vec2;
 using glm::vec3;
 using glm::vec4;
 
 using glm::abs;
+using glm::acos;
 using glm::any;
+using glm::atan;
 using glm::ceil;
 using glm::clamp;
+using glm::cos;
 using glm::dot;
 using glm::exp2;
 using glm::floor;

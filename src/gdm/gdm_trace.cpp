@@ -4,6 +4,7 @@
 #include "strata/core/parallel.h"
 
 #include "periodic_scene.h"
+#include "shared/gdm_lookup.h"
 
 #include <glm/geometric.hpp>
 
@@ -106,77 +107,36 @@ constexpr double kShadowDropVoxels = 0.5;
 
 // --- The emulation's GDM lookup -------------------------------------------------------------------------
 
-// d(T, V) of gdm_trace.h: trilinear over the voxels, nearest direction, on substituted values.
+// d(T, V) of gdm_trace.h: shaders/shared/gdm_lookup.h, the GL renderer's own, in float as the shader
+// computes it, reading `value` (a substituted value per voxel and direction).
 struct Lookup {
     double distance = kInf;  // kInf on an exit
     bool exit = true;
 };
 
 template <class Value>
-Lookup lookupGdm(const GdmDims& dims, double height, double tolerance, const Value& value,
-                 GdmDirectionLookup directions, const glm::dvec3& point, const glm::dvec3& direction,
-                 double dropBelow = -1.0) {
-    // dropBelow: corners with a value below it are left out (the weights of the others renormalised: the
-    // sums d and b below share them, so only their ratio matters); none left is a hit at distance 0.
-    const double theta = std::acos(std::clamp(direction.z, -1.0, 1.0));
-    double phi = std::atan2(direction.y, direction.x);
-    if (phi < 0.0) phi += 2.0 * std::numbers::pi;
-    // The direction taps: one (nearest sample) or four (bilinear between sample centres, clamped in theta,
-    // wrapping in phi).
-    struct Tap {
-        int t, s;
-        double weight;
-    };
-    Tap taps[4];
-    int tapCount = 0;
-    if (directions == GdmDirectionLookup::Nearest) {
-        taps[tapCount++] = {std::clamp(int(theta / std::numbers::pi * dims.ntheta), 0, dims.ntheta - 1),
-                            std::clamp(int(phi / (2.0 * std::numbers::pi) * dims.nphi), 0, dims.nphi - 1),
-                            1.0};
-    } else {
-        const double ft =
-            std::clamp(theta / std::numbers::pi * dims.ntheta - 0.5, 0.0, double(dims.ntheta - 1));
-        const double fs = phi / (2.0 * std::numbers::pi) * dims.nphi - 0.5;
-        const double t0 = std::floor(ft), s0 = std::floor(fs);
-        const double at = ft - t0, as = fs - s0;
-        for (int corner = 0; corner < 4; ++corner) {
-            const int dt = corner & 1, ds = corner >> 1;
-            const double weight = (dt ? at : 1.0 - at) * (ds ? as : 1.0 - as);
-            if (weight == 0.0) continue;
-            const int s = ((int(s0) + ds) % dims.nphi + dims.nphi) % dims.nphi;
-            taps[tapCount++] = {std::min(int(t0) + dt, dims.ntheta - 1), s, weight};
-        }
+class EmulatedLookup final : public shared::GdmLookup {
+public:
+    EmulatedLookup(const GdmDims& dims, double height, double tolerance, GdmDirectionLookup directions,
+                   const Value& value)
+        : mValue(value) {
+        mParams.voxels = shared::ivec3(dims.nx, dims.ny, dims.nz);
+        mParams.directions = shared::ivec2(dims.ntheta, dims.nphi);
+        mParams.height = float(height);
+        mParams.tolerance = float(tolerance);
+        mParams.bilinear = directions == GdmDirectionLookup::Bilinear;
+    }
+    float gdmValue(int i, int j, int k, int t, int s) override { return mValue(mParams, i, j, k, t, s); }
+    Lookup operator()(const glm::dvec3& point, const glm::dvec3& direction, double dropBelow = -1.0) {
+        const glm::vec2 d = gdmLookup(mParams, glm::vec3(point), glm::vec3(direction), float(dropBelow));
+        if (d.y > 0.5f) return {};
+        return {double(d.x), false};
     }
 
-    const double fx = point.x * dims.nx - 0.5;
-    const double fy = point.y * dims.ny - 0.5;
-    const double fz = std::clamp(point.z / height * dims.nz - 0.5, 0.0, double(dims.nz - 1));
-    const double x0 = std::floor(fx), y0 = std::floor(fy), z0 = std::floor(fz);
-    const double ax = fx - x0, ay = fy - y0, az = fz - z0;
-    const auto wrap = [](long long index, int n) { return int(((index % n) + n) % n); };
-    double d = 0.0;
-    double b = 0.0;
-    double total = 0.0;
-    for (int corner = 0; corner < 8; ++corner) {
-        const int dx = corner & 1, dy = (corner >> 1) & 1, dz = corner >> 2;
-        const double weight = (dx ? ax : 1.0 - ax) * (dy ? ay : 1.0 - ay) * (dz ? az : 1.0 - az);
-        if (weight == 0.0) continue;
-        const int i = wrap(static_cast<long long>(x0) + dx, dims.nx);
-        const int j = wrap(static_cast<long long>(y0) + dy, dims.ny);
-        const int k = std::min(int(z0) + dz, dims.nz - 1);
-        for (int tap = 0; tap < tapCount; ++tap) {
-            const double sample = double(value(i, j, k, taps[tap].t, taps[tap].s));
-            if (sample < dropBelow) continue;
-            const double w = weight * taps[tap].weight;
-            d += w * sample;
-            b += w * gdmBoundaryDistance(dims, height, k, taps[tap].t);
-            total += w;
-        }
-    }
-    if (total == 0.0) return {0.0, false};
-    if (d >= b - tolerance) return {};
-    return {std::max(d, 0.0), false};
-}
+private:
+    shared::GdmLookupParams mParams{};
+    const Value& mValue;
+};
 
 template <class Value>
 GdmSceneImages emulate(const GdmDims& dims, double shell, double tolerance, const Value& value,
@@ -187,6 +147,7 @@ GdmSceneImages emulate(const GdmDims& dims, double shell, double tolerance, cons
     GdmSceneImages images = blankImages(width, height);
     const double voxel = shell / dims.nz;
     parallelFor(0, height, [&](int j) {
+        EmulatedLookup<Value> lookup(dims, shell, tolerance, directions, value);
         for (int i = 0; i < width; ++i) {
             const glm::dvec3 direction = pixelRayDirection(camera, width, height, i + 0.5, j + 0.5);
             const BoxPassage box = passBox(camera.eye, direction, shell);
@@ -208,14 +169,12 @@ GdmSceneImages emulate(const GdmDims& dims, double shell, double tolerance, cons
                     }
                 }
                 const double dt = tOut - tIn;  // |T_out - T_in|: the direction is a unit vector
-                const Lookup hit = lookupGdm(dims, shell, tolerance, value, directions, in, direction);
+                const Lookup hit = lookup(in, direction);
                 if (!hit.exit && hit.distance < dt) {
                     const glm::dvec3 point = in + hit.distance * direction;
                     const glm::dvec3 back = point - kShadowBackoffVoxels * voxel * direction;
                     const glm::dvec3 toLight = glm::normalize(light - point);
-                    const bool lit = lookupGdm(dims, shell, tolerance, value, directions, back, toLight,
-                                               kShadowDropVoxels * voxel)
-                                         .exit;
+                    const bool lit = lookup(back, toLight, kShadowDropVoxels * voxel).exit;
                     writeHit(images, i, j, point, shell, lit);
                     break;
                 }
@@ -303,9 +262,10 @@ GdmSceneImages emulateGdm(const Gdm& gdm, const Camera& camera, glm::dvec3 light
                                                  std::to_string(gdm.dims.valueCount()));
     const GdmDims& dims = gdm.dims;
     const double shell = gdm.height;
-    const auto value = [&](int i, int j, int k, int t, int s) {
+    // A miss reads as the distance to the slab's boundary, in float as the shader computes it.
+    const auto value = [&](const shared::GdmLookupParams& p, int i, int j, int k, int t, int s) {
         const float d = gdm.at(i, j, k, t, s);
-        return d == kGdmMiss ? float(gdmBoundaryDistance(dims, shell, k, t)) : d;
+        return d == kGdmMiss ? shared::gdmBoundaryDistance(p, k, t) : d;
     };
     return emulate(dims, shell, 1e-4 * shell / dims.nz, value, camera, light, width, height, directions);
 }
@@ -317,7 +277,9 @@ GdmSceneImages emulateGdm(const GdmSvd& svd, const Camera& camera, glm::dvec3 li
         svd.eigen.size() != svd.cols * std::size_t(svd.rank))
         throw Error(ErrorKind::InvalidInput,
                     "GDM emulation: SVD maps do not match rank " + std::to_string(svd.rank));
-    const auto value = [&](int i, int j, int k, int t, int s) { return reconstruct(svd, i, j, k, t, s); };
+    const auto value = [&](const shared::GdmLookupParams&, int i, int j, int k, int t, int s) {
+        return reconstruct(svd, i, j, k, t, s);
+    };
     return emulate(svd.dims, svd.height, svd.exitTolerance, value, camera, light, width, height, directions);
 }
 

@@ -68,7 +68,8 @@ GdmSceneImages renderGdmReference(const SolidMesh& solid, const Camera& camera, 
 //     isotropic frame (= world here), V = (T_out - T_in) / dt.
 //   - d = d(T_in, V) from the GDM; d < dt (and d not an exit, below): the hit is T_in + d V. Otherwise, if
 //     T_out lies on the diagonal, the ray goes on into the other prism from T_in = T_out; else it is a miss.
-// GDM lookup d(T, V): trilinear in (x, y, z) between the voxel centres (wrapping in u, v, clamped in z, §8);
+// GDM lookup d(T, V) (shaders/shared/gdm_lookup.h, the GL renderer's own code, in float as the shader runs
+// it): trilinear in (x, y, z) between the voxel centres (wrapping in u, v, clamped in z, §8);
 // in (theta, phi) the nearest direction sample by default (GdmDirectionLookup): bilinear mixes the
 // distances of rays that go different ways, which on thin structures turns misses into hits (the chain at
 // 45 degrees: 15.8% of pixels disagree on hit / miss with bilinear, 12.6% with nearest; docs/gdm.md).
