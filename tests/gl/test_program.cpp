@@ -82,20 +82,24 @@ TEST(ShaderLibrary, EmbedsTheShaderTree) {
 
 // Every shared GLSL/C++ header (shaders/shared/*.h) is pasted into some variant, so that PassGlslangValidator
 // and EveryVariantCompilesAndLinks compile it as GLSL; C++ compiles it in the libraries and tests.
-TEST(ProgramVariants, IncludeEverySharedHeader) {
+TEST(ProgramVariants, EverySharedHeaderIsIncludedByAProgram) {
     std::set<std::string> included;
     for (const ProgramVariant& variant : allVariants()) {
         for (const ShaderStage stage : {ShaderStage::Vertex, ShaderStage::Fragment}) {
             for (const std::string& file : variantSource(variant, stage).files) included.insert(file);
         }
     }
+    // The GDM renderer's program (gdm_renderer.cpp) has no variants.
+    for (const char* stage : {"gdm/gdm.vert.glsl", "gdm/gdm.frag.glsl"})
+        for (const std::string& file : ShaderLibrary::embedded().preprocess(stage, {}).files)
+            included.insert(file);
     int shared = 0;
     for (const auto& [path, text] : ShaderLibrary::embedded().files()) {
         if (path.rfind("shared/", 0) != 0) continue;
         ++shared;
         EXPECT_EQ(included.count(path), 1u) << path << " is in no variant";
     }
-    EXPECT_GE(shared, 6);  // prelude, ao_rescale, relief_search, bilinear_cell, maxmip, cone
+    EXPECT_GE(shared, 7);  // prelude, ao_rescale, relief_search, bilinear_cell, maxmip, cone, gdm_lookup
 }
 
 TEST(ProgramVariants, AreDistinctAndCanonical) {
