@@ -92,6 +92,11 @@ void printGdm(const fs::path& dir, bool asJson) {
     std::cout << "  albedo.rgb8   : "
               << (asset.albedo.empty() ? std::string("none") : std::to_string(asset.albedo.size()) + " bytes")
               << "\n";
+    std::cout << "  distance.f32  : "
+              << (asset.distance.empty()
+                      ? std::string("none (bake again for `--technique refine` on the distance)")
+                      : std::to_string(asset.distance.size() * sizeof(float)) + " bytes")
+              << "\n";
     std::cout << "  raw.f32       : " << (asset.raw ? std::to_string(raw) + " bytes" : std::string("none"))
               << "\n";
     std::cout << "  solid.obj     : "

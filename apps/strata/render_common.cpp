@@ -246,14 +246,17 @@ std::vector<RenderedScene> renderScene(const Scene& scene, const std::vector<Tec
         results.push_back(std::move(result));
     }
 
-    const std::vector<fs::path> inputs = sceneInputs(scene);
+    finishRendered(results, sceneInputs(scene), context->rendererName(), start);
+    return results;
+}
+
+void finishRendered(std::vector<RenderedScene>& results, const std::vector<fs::path>& inputs,
+                    const std::string& rendererName, std::chrono::steady_clock::time_point start) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     for (RenderedScene& result : results) {
         result.inputs = inputs;
-        result.summary +=
-            ", " + context->rendererName() + ", " + formatNumber(std::round(seconds * 10) / 10) + " s";
+        result.summary += ", " + rendererName + ", " + formatNumber(std::round(seconds * 10) / 10) + " s";
     }
-    return results;
 }
 
 }  // namespace strata::cli

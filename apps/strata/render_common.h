@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <glm/vec3.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -68,6 +69,10 @@ struct RenderedScene {
 // renders `scene`. `techniques`: when not
 // empty, renders once per technique (same everything else) and returns the pictures in that order.
 std::vector<RenderedScene> renderScene(const Scene& scene, const std::vector<Technique>& techniques = {});
+
+// Gives every picture its inputs and ends its summary with the renderer and the seconds since `start`.
+void finishRendered(std::vector<RenderedScene>& results, const std::vector<std::filesystem::path>& inputs,
+                    const std::string& rendererName, std::chrono::steady_clock::time_point start);
 
 // A GDM render (scene.gdm.source set, render_gdm.cpp): the scene's GDM (loadSceneGdm) in the prism shell of
 // its mesh, one picture per technique in `techniques` (the scene's own when empty).

@@ -57,12 +57,7 @@ std::vector<RenderedScene> renderGdmScene(const Scene& scene, const std::vector<
     }
     std::vector<std::filesystem::path> inputs = gdm.inputs;
     if (std::filesystem::exists(scene.mesh)) inputs.emplace_back(scene.mesh);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    for (RenderedScene& result : results) {
-        result.inputs = inputs;
-        result.summary +=
-            ", " + context->rendererName() + ", " + formatNumber(std::round(seconds * 10) / 10) + " s";
-    }
+    finishRendered(results, inputs, context->rendererName(), start);
     return results;
 }
 

@@ -4,6 +4,7 @@
 #include "strata/core/parallel.h"
 
 #include "periodic_scene.h"
+#include "scene_images.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -313,23 +314,6 @@ PrismGeometry buildPrism(const PrismMap& map, const SolidTriangles& solid, const
     return out;
 }
 
-double fractional(double x) {
-    return x - std::floor(x);
-}
-
-void writeHit(GdmSceneImages& images, int i, int j, const glm::dvec3& texture, double height, bool lit) {
-    const auto unitFloat = [](double x) {
-        const float f = float(fractional(x));
-        return f >= 1.0f ? std::nextafter(1.0f, 0.0f) : f;
-    };
-    images.uvw.at(i, j, 0) = unitFloat(texture.x);
-    images.uvw.at(i, j, 1) = unitFloat(texture.y);
-    images.uvw.at(i, j, 2) = float(std::clamp(texture.z / height, 0.0, 1.0));
-    images.uvw.at(i, j, 3) = 1.0f;
-    images.mask.at(i, j) = 1.0f;
-    images.shadow.at(i, j) = lit ? 1.0f : 0.0f;
-}
-
 // The warped scene, ready for rays.
 struct WarpedScene {
     const PeriodicScene* solid = nullptr;
@@ -574,7 +558,7 @@ GdmSceneImages renderGdmMeshReference(const SolidMesh& solid, const Mesh& mesh,
         throw Error(ErrorKind::Runtime, what + ": " + errors.first);
     world = {};
 
-    GdmSceneImages images{Image(width, height, 4), Image(width, height, 1), Image(width, height, 1)};
+    GdmSceneImages images = detail::blankGdmImages(width, height);
     const double offset = kShadowOffsetTiles * T / H;
     std::atomic<std::size_t> exitFaces{0}, fromBelow{0};
     parallelFor(0, height, [&](int j) {
@@ -593,7 +577,7 @@ GdmSceneImages renderGdmMeshReference(const SolidMesh& solid, const Mesh& mesh,
                 const double reach = glm::length(light - origin);
                 lit = !firstHit(warped, origin, (light - origin) / reach, reach, true).found;
             }
-            writeHit(images, i, j, hit.texture, H, lit);
+            detail::writeGdmHit(images, i, j, hit.texture, H, lit);
         }
     });
     if (rtcGetDeviceError(device) != RTC_ERROR_NONE || !errors.first.empty())

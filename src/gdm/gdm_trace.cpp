@@ -4,6 +4,7 @@
 #include "strata/core/parallel.h"
 
 #include "periodic_scene.h"
+#include "scene_images.h"
 #include "shared/gdm_lookup.h"
 
 #include <glm/geometric.hpp>
@@ -75,29 +76,6 @@ BoxPassage passBox(const glm::dvec3& eye, const glm::dvec3& direction, double he
     return result;
 }
 
-double fractional(double x) {
-    const double f = x - std::floor(x);
-    return f;
-}
-
-// One hit written to the images (uvw convention of gdm_trace.h).
-void writeHit(GdmSceneImages& images, int i, int j, const glm::dvec3& point, double height, bool lit) {
-    const auto unitFloat = [](double x) {
-        const float f = float(fractional(x));
-        return f >= 1.0f ? std::nextafter(1.0f, 0.0f) : f;
-    };
-    images.uvw.at(i, j, 0) = unitFloat(point.x);
-    images.uvw.at(i, j, 1) = unitFloat(point.y);
-    images.uvw.at(i, j, 2) = float(std::clamp(point.z / height, 0.0, 1.0));
-    images.uvw.at(i, j, 3) = 1.0f;
-    images.mask.at(i, j) = 1.0f;
-    images.shadow.at(i, j) = lit ? 1.0f : 0.0f;
-}
-
-GdmSceneImages blankImages(int width, int height) {
-    return {Image(width, height, 4), Image(width, height, 1), Image(width, height, 1)};
-}
-
 // The emulation's shadow lookup (gdm_trace.h): backed off this many voxels (H / Nz) towards the eye, and
 // ignoring the corners whose value is below this many voxels (inside the solid or touching it). Chosen on
 // the sphere of test_gdm_trace.cpp (all of it lit): without either, 99% of its lit pixels read as
@@ -144,7 +122,7 @@ GdmSceneImages emulate(const GdmDims& dims, double shell, double tolerance, cons
                        GdmDirectionLookup directions) {
     validateCamera(camera);
     validateGdmPicture(width, height);
-    GdmSceneImages images = blankImages(width, height);
+    GdmSceneImages images = detail::blankGdmImages(width, height);
     const double voxel = shell / dims.nz;
     parallelFor(0, height, [&](int j) {
         EmulatedLookup<Value> lookup(dims, shell, tolerance, directions, value);
@@ -175,7 +153,7 @@ GdmSceneImages emulate(const GdmDims& dims, double shell, double tolerance, cons
                     const glm::dvec3 back = point - kShadowBackoffVoxels * voxel * direction;
                     const glm::dvec3 toLight = glm::normalize(light - point);
                     const bool lit = lookup(back, toLight, kShadowDropVoxels * voxel).exit;
-                    writeHit(images, i, j, point, shell, lit);
+                    detail::writeGdmHit(images, i, j, point, shell, lit);
                     break;
                 }
                 if (!throughDiagonal) break;
@@ -206,7 +184,7 @@ GdmSceneImages renderGdmReference(const SolidMesh& solid, const Camera& camera, 
         throw Error(ErrorKind::InvalidInput,
                     what + ": shell height " + formatNumber(solid.height) + " is not finite and > 0");
     checkMesh(solid, what);
-    GdmSceneImages images = blankImages(width, height);
+    GdmSceneImages images = detail::blankGdmImages(width, height);
     if (solid.triangles.empty()) return images;
     EmbreeErrors errors;
     const PeriodicScene scene = buildScene(solid, what, errors);
@@ -245,7 +223,7 @@ GdmSceneImages renderGdmReference(const SolidMesh& solid, const Camera& camera, 
                                   shadowDirection, shell, 0.0);
                 lit = double(blocker) >= reach;
             }
-            writeHit(images, i, j, point, shell, lit);
+            detail::writeGdmHit(images, i, j, point, shell, lit);
         }
     });
     if (rtcGetDeviceError(scene.device.get()) != RTC_ERROR_NONE || !errors.first.empty())

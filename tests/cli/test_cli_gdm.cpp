@@ -51,6 +51,11 @@ TEST(CliGdm, BakesAReadableAssetThatInfoDescribes) {
         info.output.find("solid.obj     : " + std::to_string(asset.solid->triangles.size()) + " triangles"),
         std::string::npos)
         << info.output;
+    // The signed distance volume: a float per voxel.
+    ASSERT_EQ(asset.distance.size(), asset.occupancy.size());
+    EXPECT_NE(info.output.find("distance.f32  : " + std::to_string(asset.distance.size() * 4) + " bytes"),
+              std::string::npos)
+        << info.output;
 }
 
 // Distance from `origin` along unit `direction` to the sphere (centre, radius), or -1 if it misses.
