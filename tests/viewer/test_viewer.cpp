@@ -753,6 +753,20 @@ test::CommandResult runUnderXvfb(const std::string& command) {
     return run;
 }
 
+// Pixels of [x0, x1) x [y0, y1) more than 0.1 from the default background in the sum of their channels.
+int pixelsUnlikeTheBackground(const Image& view, int x0, int y0, int x1, int y1) {
+    const glm::dvec3 background = PictureSettings{}.background;
+    int count = 0;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            double difference = 0.0;
+            for (int c = 0; c < 3; ++c)
+                difference += std::fabs(static_cast<double>(view.at(x, y, c)) - background[c]);
+            count += difference > 0.1 ? 1 : 0;
+        }
+    return count;
+}
+
 TEST(ViewerCli, ScreenshotUnderXvfbMatchesStrataRender) {
     SKIP_WITHOUT_VIEWER();
     if (runShell("command -v xvfb-run").exitCode != 0)
@@ -794,14 +808,7 @@ TEST(ViewerCli, ScreenshotUnderXvfbMatchesStrataRender) {
     const glm::dvec3 background = PictureSettings{}.background;
     for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(static_cast<double>(view.at(2, 2, c)), background[c], 1.0 / 255.0 + 1e-6);
-    int teapot = 0;
-    for (int y = 72; y < 120; ++y)
-        for (int x = 96; x < 160; ++x) {
-            double difference = 0.0;
-            for (int c = 0; c < 3; ++c)
-                difference += std::fabs(static_cast<double>(view.at(x, y, c)) - background[c]);
-            teapot += difference > 0.1 ? 1 : 0;
-        }
+    const int teapot = pixelsUnlikeTheBackground(view, 96, 72, 160, 120);
     EXPECT_GT(teapot, 64 * 48 * 9 / 10) << "the centre of the window should show the teapot";
 
     // The same picture as `strata render`: both draw with ReliefRenderer, with the same camera (frameCamera
@@ -956,14 +963,7 @@ TEST(ViewerCli, GdmScreenshotUnderXvfbMatchesStrataRender) {
     const glm::dvec3 background = PictureSettings{}.background;
     for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(static_cast<double>(view.at(2, 2, c)), background[c], 0.5 / 255.0 + 1e-6);
-    int shell = 0;
-    for (int y = 80; y < 112; ++y)
-        for (int x = 112; x < 144; ++x) {
-            double difference = 0.0;
-            for (int c = 0; c < 3; ++c)
-                difference += std::fabs(static_cast<double>(view.at(x, y, c)) - background[c]);
-            shell += difference > 0.1 ? 1 : 0;
-        }
+    const int shell = pixelsUnlikeTheBackground(view, 112, 80, 144, 112);
     EXPECT_GT(shell, 32 * 32 * 9 / 10) << "the centre of the window should show the sphere's weave";
 
     // The same picture as `strata render --gdm`: the same renderer and picture function (gdm_picture.h) with
