@@ -72,8 +72,8 @@ TEST_F(GdmRendererGl, RawMatchesTheCpuEmulation) {
         const GdmSceneImages gpu = gl::renderGdmScene(gdm, camera, kLight, kSize, kSize);
         const GdmSceneAccuracy same = compareGdmScenes(cpu, gpu, gdm.height, voxel);
         // The bound: the shader and the emulation share the lookup (shaders/shared/gdm_lookup.h, in
-        // float) but not the segment (the CPU's in double, by planes; the GPU's in float, by triangles); where
-        // they disagree a lookup sits on the d < dt edge within float rounding.
+        // float) but not the segment (the CPU's in double, by planes; the GPU's in float, by triangles);
+        // where they disagree a lookup sits on the d < dt edge within float rounding.
         EXPECT_LE(same.hitMissDisagreePercent, 0.5) << degrees;
         // Where both hit, the hit points agree to float rounding of distances of a tile width or so, far
         // below a voxel, except where a rounding flip of d < dt in one prism moves the hit on.
