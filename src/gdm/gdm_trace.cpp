@@ -4,6 +4,7 @@
 #include "strata/core/parallel.h"
 
 #include "periodic_scene.h"
+#include "scene_hit.h"
 #include "scene_images.h"
 #include "shared/gdm_lookup.h"
 
@@ -26,56 +27,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // The shadow ray starts this far off the surface (tile widths), so that it does not meet the face it
 // leaves; far below a voxel (1 / 64) and far above float rounding at unit scale.
 constexpr double kShadowOffset = 1e-5;
-// The inside test at the box entry point is made this far inside the box, off the face's plane.
-constexpr double kEntryNudge = 1e-7;
-
-// The ray's passage through the box [0, 1]^2 x [0, H]: entry and exit distances, and the outward normal of
-// the face it enters through (zero when it does not enter, or enters through the bottom).
-struct BoxPassage {
-    double tIn = 0.0;
-    double tOut = 0.0;
-    glm::dvec3 faceNormal{0.0};
-    bool seen = false;  // enters through the top or a side, in front of the eye
-};
-
-BoxPassage passBox(const glm::dvec3& eye, const glm::dvec3& direction, double height) {
-    BoxPassage result;
-    const double lo[3] = {0.0, 0.0, 0.0};
-    const double hi[3] = {1.0, 1.0, height};
-    double tIn = -kInf;
-    double tOut = kInf;
-    int inAxis = -1;
-    double inSign = 0.0;
-    for (int axis = 0; axis < 3; ++axis) {
-        const double o = eye[axis];
-        const double d = direction[axis];
-        if (d == 0.0) {
-            if (o < lo[axis] || o > hi[axis]) return result;
-            continue;
-        }
-        double t0 = (lo[axis] - o) / d;
-        double t1 = (hi[axis] - o) / d;
-        double sign = -1.0;  // entering through the low face: outward normal -axis
-        if (t0 > t1) {
-            std::swap(t0, t1);
-            sign = 1.0;
-        }
-        if (t0 > tIn) {
-            tIn = t0;
-            inAxis = axis;
-            inSign = sign;
-        }
-        tOut = std::min(tOut, t1);
-    }
-    // The eye must be outside the box, the box in front of it, and the entry not through the bottom.
-    if (inAxis < 0 || tIn > tOut || tIn < 0.0 || (inAxis == 2 && inSign < 0.0)) return result;
-    result.tIn = tIn;
-    result.tOut = tOut;
-    result.faceNormal[inAxis] = inSign;
-    result.seen = true;
-    return result;
-}
-
 // The emulation's shadow lookup (gdm_trace.h): backed off this many voxels (H / Nz) towards the eye, and
 // ignoring the corners whose value is below this many voxels (inside the solid or touching it). Chosen on
 // the sphere of test_gdm_trace.cpp (all of it lit): without either, 99% of its lit pixels read as
@@ -194,23 +145,10 @@ GdmSceneImages renderGdmReference(const SolidMesh& solid, const Camera& camera, 
         rtcInitIntersectContext(&context);
         for (int i = 0; i < width; ++i) {
             const glm::dvec3 direction = pixelRayDirection(camera, width, height, i + 0.5, j + 0.5);
-            const BoxPassage box = passBox(camera.eye, direction, shell);
-            if (!box.seen) continue;
-            const glm::dvec3 entry = camera.eye + box.tIn * direction;
-            glm::dvec3 point;
-            glm::dvec3 normal;
-            if (insideSolid(scene, entry - kEntryNudge * box.faceNormal)) {
-                point = entry;  // the cut face
-                normal = box.faceNormal;
-            } else {
-                // The box lies inside the scene's column: one segment, no wrapping.
-                RTCRayHit rayHit;
-                setRay(rayHit, entry, glm::vec3(direction), box.tOut - box.tIn);
-                rtcIntersect1(scene.scene.get(), &context, &rayHit);
-                if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-                point = entry + double(rayHit.ray.tfar) * direction;
-                normal = glm::normalize(glm::dvec3(scene.normals[rayHit.hit.primID]));
-            }
+            const SceneHit first = firstSceneHit(scene, context, camera.eye, direction, shell);
+            if (!first.hit) continue;
+            const glm::dvec3& point = first.point;
+            const glm::dvec3& normal = first.normal;
             bool lit = false;
             const glm::dvec3 toLight = light - point;
             if (glm::dot(normal, toLight) > 0.0) {

@@ -1,0 +1,207 @@
+#include "strata/gdm/gdm_path_trace.h"
+
+#include "strata/core/error.h"
+#include "strata/core/parallel.h"
+#include "strata/gdm/gdm_bake.h"
+#include "strata/gdm/gdm_trace.h"
+#include "strata/gdm/mesostructure.h"
+#include "strata/image/srgb.h"
+
+#include "periodic_scene.h"
+#include "scene_hit.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <utility>
+
+namespace strata {
+namespace {
+
+using namespace detail;
+
+// A secondary ray starts this far off its surface along the normal (tile widths), so that it does not meet
+// the face it leaves: the reference's shadow offset (gdm_trace.cpp), far below a voxel (1 / 64) and far
+// above float rounding at unit scale.
+constexpr double kSurfaceOffset = 1e-5;
+
+// splitmix64 (Steele, Lea and Flood 2014): the finaliser as a hash, and the generator as a counter through
+// it.
+constexpr std::uint64_t kGolden = 0x9e3779b97f4a7c15ull;
+std::uint64_t mix(std::uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+class PathRandom {
+public:
+    // One stream per path: (seed, pixel, sample) hashed into the starting state.
+    PathRandom(std::uint64_t seed, int i, int j, int sample) {
+        std::uint64_t h = mix(seed + kGolden);
+        h = mix(h ^ ((std::uint64_t(std::uint32_t(j)) << 32) | std::uint64_t(std::uint32_t(i))));
+        mState = mix(h ^ std::uint64_t(std::uint32_t(sample)));
+    }
+    // Uniform in [0, 1): the top 53 bits.
+    double next() {
+        mState += kGolden;
+        return double(mix(mState) >> 11) * 0x1.0p-53;
+    }
+
+private:
+    std::uint64_t mState;
+};
+
+// A direction drawn with density cos(theta) / pi around the unit normal n (Malley's method), in the
+// orthonormal basis of Duff et al. 2017 ("Building an Orthonormal Basis, Revisited").
+glm::dvec3 cosineDirection(const glm::dvec3& n, double u1, double u2) {
+    const double sign = std::copysign(1.0, n.z);
+    const double a = -1.0 / (sign + n.z);
+    const double b = n.x * n.y * a;
+    const glm::dvec3 t(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    const glm::dvec3 s(b, sign + n.y * n.y * a, -n.y);
+    const double r = std::sqrt(u1);
+    const double phi = 2.0 * std::numbers::pi * u2;
+    const glm::dvec3 d = r * std::cos(phi) * t + r * std::sin(phi) * s + std::sqrt(1.0 - u1) * n;
+    return glm::normalize(d);
+}
+
+glm::dvec3 texturePoint(const glm::dvec3& point, double height) {
+    return {point.x - std::floor(point.x), point.y - std::floor(point.y),
+            std::clamp(point.z / height, 0.0, 1.0)};
+}
+
+void checkOptions(const GdmPathTraceOptions& options, const std::string& what) {
+    if (options.samplesPerPixel < 1 || options.samplesPerPixel > GdmPathTraceOptions::kMaxSamplesPerPixel)
+        throw Error(ErrorKind::InvalidInput,
+                    what + ": samplesPerPixel " + std::to_string(options.samplesPerPixel) +
+                        " is outside [1, " + std::to_string(GdmPathTraceOptions::kMaxSamplesPerPixel) + "]");
+    if (options.bounces < 0 || options.bounces > GdmPathTraceOptions::kMaxBounces)
+        throw Error(ErrorKind::InvalidInput, what + ": bounces " + std::to_string(options.bounces) +
+                                                 " is outside [0, " +
+                                                 std::to_string(GdmPathTraceOptions::kMaxBounces) + "]");
+}
+
+}  // namespace
+
+GdmPathTraceImages pathTraceGdm(const SolidMesh& solid, const GdmAlbedo& albedo,
+                                const EnvironmentRadiance& environment, const Camera& camera, int width,
+                                int height, const GdmPathTraceOptions& options) {
+    const std::string what = "GDM path trace of " + solid.source;
+    validateCamera(camera);
+    validateGdmPicture(width, height);
+    if (!(std::isfinite(solid.height) && solid.height > 0.0))
+        throw Error(ErrorKind::InvalidInput,
+                    what + ": shell height " + formatNumber(solid.height) + " is not finite and > 0");
+    checkMesh(solid, what);
+    if (!albedo) throw Error(ErrorKind::InvalidInput, what + ": no albedo function");
+    if (!environment) throw Error(ErrorKind::InvalidInput, what + ": no environment function");
+    checkOptions(options, what);
+
+    GdmPathTraceImages images{Image(width, height, 3), Image(width, height, 1)};
+    if (solid.triangles.empty()) return images;
+    EmbreeErrors errors;
+    const PeriodicScene scene = buildScene(solid, what, errors);
+    const double shell = solid.height;
+    parallelFor(0, height, [&](int j) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        for (int i = 0; i < width; ++i) {
+            const glm::dvec3 view = pixelRayDirection(camera, width, height, i + 0.5, j + 0.5);
+            const SceneHit first = firstSceneHit(scene, context, camera.eye, view, shell);
+            if (!first.hit) continue;
+            const glm::dvec3 firstAlbedo = albedo(texturePoint(first.point, shell));
+            glm::dvec3 sum(0.0);
+            for (int sample = 0; sample < options.samplesPerPixel; ++sample) {
+                PathRandom random(options.seed, i, j, sample);
+                glm::dvec3 point = first.point;
+                glm::dvec3 normal = first.normal;
+                glm::dvec3 weight = firstAlbedo;
+                for (int bounce = 0;; ++bounce) {
+                    const double u1 = random.next();
+                    const double u2 = random.next();
+                    const glm::dvec3 direction = cosineDirection(normal, u1, u2);
+                    glm::dvec3 origin = point + kSurfaceOffset * normal;
+                    origin.z = std::clamp(origin.z, 0.0, shell);
+                    unsigned primitive = 0;
+                    const float distance =
+                        distanceAlong(scene, scene.scene.get(), context, wrapped(origin, direction, 0.0),
+                                      direction, shell, 0.0, &primitive);
+                    if (distance == kGdmMiss) {
+                        // Out of the slab (or kGdmBakeMaxTravel inside it): through the top it sees the
+                        // environment; through the bottom, or horizontally, it is blocked (the header).
+                        if (direction.z > 0.0) sum += weight * environment(direction);
+                        break;
+                    }
+                    if (bounce == options.bounces) break;
+                    const glm::dvec3 faceNormal = glm::normalize(glm::dvec3(scene.normals[primitive]));
+                    // Met from behind: the ray ran inside the solid (from a cut face); the solid absorbs it.
+                    if (glm::dot(faceNormal, direction) >= 0.0) break;
+                    point = origin + double(distance) * direction;
+                    normal = faceNormal;
+                    weight *= albedo(texturePoint(point, shell));
+                }
+            }
+            const glm::dvec3 radiance = sum / double(options.samplesPerPixel);
+            for (int c = 0; c < 3; ++c) images.radiance.at(i, j, c) = float(radiance[c]);
+            images.mask.at(i, j) = 1.0f;
+        }
+    });
+    if (rtcGetDeviceError(scene.device.get()) != RTC_ERROR_NONE || !errors.first.empty())
+        throw Error(ErrorKind::Runtime, what + ": " + errors.first);
+    return images;
+}
+
+GdmAlbedo mesostructureLinearAlbedo(const Mesostructure& meso) {
+    return [&meso](const glm::dvec3& p) {
+        const glm::dvec3 srgb = meso.sample({p.x, p.y, p.z * meso.height()}).albedo;
+        return glm::dvec3(srgbToLinear(srgb.x), srgbToLinear(srgb.y), srgbToLinear(srgb.z));
+    };
+}
+
+GdmAlbedo gdmVolumeAlbedo(std::vector<std::uint8_t> srgb, int nx, int ny, int nz) {
+    if (nx < 1 || ny < 1 || nz < 1)
+        throw Error(ErrorKind::InvalidInput, "albedo volume: dimensions " + std::to_string(nx) + " x " +
+                                                 std::to_string(ny) + " x " + std::to_string(nz) +
+                                                 " are not all >= 1");
+    const std::size_t voxels = std::size_t(nx) * std::size_t(ny) * std::size_t(nz);
+    if (srgb.size() != 3 * voxels)
+        throw Error(ErrorKind::InvalidInput, "albedo volume: " + std::to_string(srgb.size()) + " bytes for " +
+                                                 std::to_string(nx) + " x " + std::to_string(ny) + " x " +
+                                                 std::to_string(nz) + " RGB voxels (" +
+                                                 std::to_string(3 * voxels) + " needed)");
+    // Decoded once: trilinear interpolation of linear values (albedo mixes linearly).
+    auto linear = std::make_shared<std::vector<glm::dvec3>>(voxels);
+    for (std::size_t v = 0; v < voxels; ++v)
+        (*linear)[v] = glm::dvec3(srgbToLinear(srgb[3 * v] / 255.0), srgbToLinear(srgb[3 * v + 1] / 255.0),
+                                  srgbToLinear(srgb[3 * v + 2] / 255.0));
+    return [linear, nx, ny, nz](const glm::dvec3& p) {
+        // Continuous voxel coordinates: sample centres at integers (CONVENTIONS §8).
+        const double x = p.x * nx - 0.5, y = p.y * ny - 0.5;
+        const double z = std::clamp(p.z * nz - 0.5, 0.0, double(nz - 1));
+        const double x0 = std::floor(x), y0 = std::floor(y), z0 = std::floor(z);
+        const double fx = x - x0, fy = y - y0, fz = z - z0;
+        const auto wrap = [](double index, int n) {
+            const long long m = static_cast<long long>(index) % n;
+            return static_cast<std::size_t>(m < 0 ? m + n : m);
+        };
+        glm::dvec3 result(0.0);
+        for (int corner = 0; corner < 8; ++corner) {
+            const int dx = corner & 1, dy = (corner >> 1) & 1, dz = (corner >> 2) & 1;
+            const double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy) * (dz ? fz : 1.0 - fz);
+            if (w == 0.0) continue;
+            const std::size_t i = wrap(x0 + dx, nx), jj = wrap(y0 + dy, ny);
+            const std::size_t k =
+                std::min(static_cast<std::size_t>(z0) + std::size_t(dz), std::size_t(nz - 1));
+            result += w * (*linear)[(k * std::size_t(ny) + jj) * std::size_t(nx) + i];
+        }
+        return result;
+    };
+}
+
+}  // namespace strata
