@@ -51,24 +51,45 @@ double functionW(int m, int n, int l, const Band& r1, const Band& prev) {
     return functionP(1, m - 1, n, l, r1, prev) - functionP(-1, -m + 1, n, l, r1, prev);
 }
 
-Band nextBand(int l, const Band& r1, const Band& prev) {
-    Band band;
-    band.l = l;
-    for (int m = -l; m <= l; ++m) {
+// Ivanic & Ruedenberg's u, v, w (1998 corrections, Table 2) for every (m, n) of band l: they depend on the
+// indices only, so they are computed once.
+struct Weights {
+    std::array<double, 49> u{}, v{}, w{};
+};
+
+Weights makeWeights(int l) {
+    Weights weights;
+    for (int m = -l; m <= l; ++m)
         for (int n = -l; n <= l; ++n) {
             const double d = m == 0 ? 1.0 : 0.0;
             const int absM = std::abs(m);
             const double denominator =
-                std::abs(n) == l ? (2.0 * l) * (2.0 * l - 1.0) : double(l + n) * (l - n);
-            const double u = std::sqrt(double(l + m) * (l - m) / denominator);
-            const double v =
+                std::abs(n) == l ? (2.0 * l) * (2.0 * l - 1.0) : static_cast<double>((l + n) * (l - n));
+            const auto at = static_cast<std::size_t>((m + l) * (2 * l + 1) + (n + l));
+            weights.u[at] = std::sqrt(static_cast<double>((l + m) * (l - m)) / denominator);
+            weights.v[at] =
                 0.5 * std::sqrt((1.0 + d) * (l + absM - 1.0) * (l + absM) / denominator) * (1.0 - 2.0 * d);
-            const double w = -0.5 * std::sqrt((l - absM - 1.0) * (l - absM) / denominator) * (1.0 - d);
+            // (l - |m| - 1)(l - |m|) is 0 for |m| >= l - 1 (and W is then undefined): w = 0 there.
+            weights.w[at] = absM >= l - 1
+                                ? 0.0
+                                : -0.5 * std::sqrt((l - absM - 1.0) * (l - absM) / denominator) * (1.0 - d);
+        }
+    return weights;
+}
+
+Band nextBand(int l, const Band& r1, const Band& prev) {
+    static const Weights kWeights[2] = {makeWeights(2), makeWeights(3)};
+    const Weights& weights = kWeights[l - 2];
+    Band band;
+    band.l = l;
+    for (int m = -l; m <= l; ++m) {
+        for (int n = -l; n <= l; ++n) {
+            const auto at = static_cast<std::size_t>((m + l) * (2 * l + 1) + (n + l));
             double value = 0.0;
-            if (u != 0.0) value += u * functionU(m, n, l, r1, prev);
-            if (v != 0.0) value += v * functionV(m, n, l, r1, prev);
-            if (w != 0.0) value += w * functionW(m, n, l, r1, prev);
-            band(m, n) = value;
+            if (weights.u[at] != 0.0) value += weights.u[at] * functionU(m, n, l, r1, prev);
+            if (weights.v[at] != 0.0) value += weights.v[at] * functionV(m, n, l, r1, prev);
+            if (weights.w[at] != 0.0) value += weights.w[at] * functionW(m, n, l, r1, prev);
+            band.values[at] = value;
         }
     }
     return band;
