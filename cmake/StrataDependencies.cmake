@@ -11,6 +11,7 @@ find_package(TBB REQUIRED)                      # libtbb-dev
 find_package(Threads REQUIRED)
 find_package(tinyobjloader REQUIRED)           # libtinyobjloader-dev: OBJ meshes
 find_package(TinyGLTF REQUIRED)                 # libtinygltf-dev: glTF 2.0 meshes (a shared library on Debian)
+find_package(Boost 1.74 REQUIRED)               # Boost's headers (libboost1.74-dev, which libboost-iostreams-dev brings): Boost.Math's Gauss-Legendre rules
 # The gdm module (generalized displacement maps): Embree 3 (libembree-dev) casts the bake's and the exact
 # reference's rays against triangle meshes; OpenVDB (libopenvdb-dev) reads level sets and meshes them. Its
 # Find module ships with the package and needs Boost.Iostreams (libboost-iostreams-dev).

@@ -12,7 +12,8 @@ packages=(
   # meshes
   libtinyobjloader-dev libtinygltf-dev
   # generalized displacement maps: Embree 3 ray casting, OpenVDB level sets (its CMake module needs Boost),
-  # Spectra (the largest eigenpairs of a large Gram matrix, for the SVD's wide layout)
+  # Spectra (the largest eigenpairs of a large Gram matrix, for the SVD's wide layout). libboost-iostreams-dev
+  # also brings Boost's headers (libboost1.74-dev): the environment module uses Boost.Math's Gauss-Legendre rules
   libembree-dev libopenvdb-dev libboost-iostreams-dev libspectra-dev
   # OpenGL 4.5 core through libepoxy, headless through EGL on Mesa (llvmpipe when there is no GPU)
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
