@@ -1,0 +1,306 @@
+#include "strata/gdm/gdm_rtv.h"
+
+#include "strata/core/error.h"
+#include "strata/core/parallel.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+
+namespace strata {
+namespace {
+
+constexpr int kCoefficients = kShCount * 3;  // floats per voxel
+
+int wrapIndex(int i, int n) {
+    const int r = i % n;
+    return r < 0 ? r + n : r;
+}
+
+// The trilinear stencil around an isotropic-frame point with the corners inside the solid left out.
+struct Stencil {
+    std::array<std::size_t, 8> voxel{};
+    std::array<double, 8> weight{};
+    int count = 0;
+};
+
+Stencil stencilAt(const GdmRtv& rtv, const glm::dvec3& point) {
+    const GdmDims& d = rtv.dims;
+    const double fx = point.x * d.nx - 0.5, fy = point.y * d.ny - 0.5;
+    const double fz = std::clamp(point.z / rtv.height * d.nz - 0.5, 0.0, double(d.nz - 1));
+    const double x0 = std::floor(fx), y0 = std::floor(fy), z0 = std::floor(fz);
+    const double tx = fx - x0, ty = fy - y0, tz = fz - z0;
+    const int i0 = int(x0), j0 = int(y0), k0 = int(z0);
+    Stencil s;
+    double total = 0.0;
+    for (int c = 0; c < 8; ++c) {
+        const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
+        const double w = (di ? tx : 1.0 - tx) * (dj ? ty : 1.0 - ty) * (dk ? tz : 1.0 - tz);
+        if (w <= 0.0) continue;
+        const std::size_t v =
+            rtv.voxelIndex(wrapIndex(i0 + di, d.nx), wrapIndex(j0 + dj, d.ny), std::min(k0 + dk, d.nz - 1));
+        // Inside voxels hold 0, not the surface's transfer: mixing them in would darken every hit.
+        if (rtv.distance[v] < 0.0f) continue;
+        s.voxel[std::size_t(s.count)] = v;
+        s.weight[std::size_t(s.count)] = w;
+        ++s.count;
+        total += w;
+    }
+    if (s.count == 0) {
+        // Every corner inside: a surface point in a cell whose corners all lie inside (a feature thinner
+        // than a voxel). The nearest outside voxel centre of the 4 x 4 x 4 block around the cell stands in.
+        double best = std::numeric_limits<double>::infinity();
+        for (int dk = -1; dk <= 2; ++dk)
+            for (int dj = -1; dj <= 2; ++dj)
+                for (int di = -1; di <= 2; ++di) {
+                    const int kk = k0 + dk;
+                    if (kk < 0 || kk >= d.nz) continue;
+                    const std::size_t v =
+                        rtv.voxelIndex(wrapIndex(i0 + di, d.nx), wrapIndex(j0 + dj, d.ny), kk);
+                    if (rtv.distance[v] < 0.0f) continue;
+                    const glm::dvec3 offset((di - tx) / d.nx, (dj - ty) / d.ny,
+                                            (dk - tz) * rtv.height / d.nz);
+                    const double length = glm::dot(offset, offset);
+                    if (length < best) {
+                        best = length;
+                        s.voxel[0] = v;
+                        s.weight[0] = 1.0;
+                        s.count = 1;
+                        total = 1.0;
+                    }
+                }
+    }
+    for (int c = 0; c < s.count; ++c) s.weight[std::size_t(c)] /= total;
+    return s;
+}
+
+// Adds scale * (the stencil's transfer) to out[0 .. kCoefficients).
+void accumulate(const std::vector<float>& transfer, const Stencil& s, double scale, double* out) {
+    for (int c = 0; c < s.count; ++c) {
+        const float* t = transfer.data() + s.voxel[std::size_t(c)] * kCoefficients;
+        const double w = scale * s.weight[std::size_t(c)];
+        for (int n = 0; n < kCoefficients; ++n) out[n] += w * double(t[n]);
+    }
+}
+
+glm::dvec3 distanceNormal(const GdmRtv& rtv, int i, int j, int k) {
+    const GdmDims& d = rtv.dims;
+    const auto at = [&](int a, int b, int c) {
+        return double(rtv.distance[rtv.voxelIndex(wrapIndex(a, d.nx), wrapIndex(b, d.ny), c)]);
+    };
+    const int kLo = std::max(k - 1, 0), kHi = std::min(k + 1, d.nz - 1);
+    const double dz = rtv.height / d.nz;
+    const glm::dvec3 g((at(i + 1, j, k) - at(i - 1, j, k)) * d.nx / 2.0,
+                       (at(i, j + 1, k) - at(i, j - 1, k)) * d.ny / 2.0,
+                       kHi > kLo ? (at(i, j, kHi) - at(i, j, kLo)) / (double(kHi - kLo) * dz) : 0.0);
+    const double length = glm::length(g);
+    return length > 0.0 ? g / length : glm::dvec3(0.0, 0.0, 1.0);
+}
+
+}  // namespace
+
+GdmRtv bakeGdmRtv(const Gdm& gdm, const std::vector<float>& distance, const GdmAlbedo& albedo,
+                  const GdmRtvOptions& options) {
+    const GdmDims& dims = gdm.dims;
+    const std::string what = "GDM RTV";
+    validateGdmDims(dims, gdm.height, what);
+    if (gdm.values.size() != dims.valueCount())
+        throw Error(ErrorKind::InvalidInput, what + ": the GDM has " + std::to_string(gdm.values.size()) +
+                                                 " values, its dims need " +
+                                                 std::to_string(dims.valueCount()));
+    if (distance.size() != dims.voxelCount())
+        throw Error(ErrorKind::InvalidInput, what + ": the distance volume has " +
+                                                 std::to_string(distance.size()) + " voxels, the GDM " +
+                                                 std::to_string(dims.voxelCount()));
+    if (!albedo) throw Error(ErrorKind::InvalidInput, what + ": no albedo");
+    if (options.bounces < 0 || options.bounces > GdmRtvOptions::kMaxBounces)
+        throw Error(ErrorKind::InvalidInput, what + ": bounces " + std::to_string(options.bounces) +
+                                                 " is outside [0, " +
+                                                 std::to_string(GdmRtvOptions::kMaxBounces) + "]");
+
+    GdmRtv rtv;
+    rtv.dims = dims;
+    rtv.height = gdm.height;
+    rtv.distance = distance;
+    rtv.transfer.assign(dims.voxelCount() * kCoefficients, 0.0f);
+
+    // Per direction sample: its vector, its exact cell solid angle, and its 16 basis values.
+    const int directions = int(dims.directionCount());
+    const auto directionCount = dims.directionCount();
+    std::vector<glm::dvec3> dir(directionCount, glm::dvec3(0.0));
+    std::vector<double> solidAngle(directionCount, 0.0);
+    std::vector<ShVector> basis(directionCount);
+    for (int t = 0; t < dims.ntheta; ++t) {
+        const double theta0 = t * std::numbers::pi / dims.ntheta,
+                     theta1 = (t + 1) * std::numbers::pi / dims.ntheta;
+        const double omega = 2.0 * std::numbers::pi / dims.nphi * (std::cos(theta0) - std::cos(theta1));
+        for (int s = 0; s < dims.nphi; ++s) {
+            const std::size_t n = std::size_t(t * dims.nphi + s);
+            dir[n] = gdmDirection(dims, t, s);
+            solidAngle[n] = omega;
+            basis[n] = shEvaluate(dir[n]);
+        }
+    }
+
+    // Per voxel: the normal and rho / pi (linear RGB); inside voxels are skipped throughout.
+    std::vector<glm::dvec3> normal(dims.voxelCount()), rho(dims.voxelCount());
+    parallelFor(0, dims.nz * dims.ny, [&](int row) {
+        const int j = row % dims.ny, k = row / dims.ny;
+        for (int i = 0; i < dims.nx; ++i) {
+            const std::size_t v = rtv.voxelIndex(i, j, k);
+            if (distance[v] < 0.0f) continue;
+            normal[v] = distanceNormal(rtv, i, j, k);
+            // The albedo of the surface point the voxel stands for, not of the empty space at its centre
+            // (a texture's albedo off the surface is whatever its volume holds there): the centre moved
+            // along -n by its distance, wrapped in u, v and clamped to the slab.
+            glm::dvec3 c = gdmVoxelCentre(dims, gdm.height, i, j, k) - double(distance[v]) * normal[v];
+            c.x -= std::floor(c.x);
+            c.y -= std::floor(c.y);
+            rho[v] = albedo({c.x, c.y, std::clamp(c.z / gdm.height, 0.0, 1.0)});
+        }
+    });
+
+    // Direct transfer: the sky seen through the top, cosine-weighted.
+    parallelFor(0, dims.nz * dims.ny, [&](int row) {
+        const int j = row % dims.ny, k = row / dims.ny;
+        for (int i = 0; i < dims.nx; ++i) {
+            const std::size_t v = rtv.voxelIndex(i, j, k);
+            if (distance[v] < 0.0f) continue;
+            ShVector sum{};
+            for (int n = 0; n < directions; ++n) {
+                const glm::dvec3& w = dir[std::size_t(n)];
+                if (w.z <= 0.0 || gdm.values[v * dims.directionCount() + std::size_t(n)] != kGdmMiss)
+                    continue;
+                const double cosine = glm::dot(normal[v], w);
+                if (cosine <= 0.0) continue;
+                const double weight = cosine * solidAngle[std::size_t(n)];
+                for (int q = 0; q < kShCount; ++q)
+                    sum[std::size_t(q)] += weight * basis[std::size_t(n)][std::size_t(q)];
+            }
+            float* out = rtv.transfer.data() + v * kCoefficients;
+            for (int q = 0; q < kShCount; ++q)
+                for (int c = 0; c < 3; ++c) out[q * 3 + c] = float(sum[std::size_t(q)] / std::numbers::pi);
+        }
+    });
+    if (options.bounces == 0) return rtv;
+
+    // Interreflection: gather the previous iterate at the first hits, Jacobi style (each pass reads only the
+    // previous one, so the result does not depend on the order or the thread count).
+    const std::vector<float> direct = rtv.transfer;
+    const double backOff = kGdmRtvBackOff * gdm.height / dims.nz;
+    for (int b = 0; b < options.bounces; ++b) {
+        // The previous iterate's outgoing transfer, rho T (the albedo of the voxel's surface point).
+        std::vector<float> previous = rtv.transfer;
+        for (std::size_t v = 0; v < dims.voxelCount(); ++v)
+            for (int q = 0; q < kShCount; ++q)
+                for (int c = 0; c < 3; ++c) {
+                    float& value = previous[v * kCoefficients + std::size_t(q * 3 + c)];
+                    value = float(double(value) * rho[v][c]);
+                }
+        parallelFor(0, dims.nz * dims.ny, [&](int row) {
+            const int j = row % dims.ny, k = row / dims.ny;
+            for (int i = 0; i < dims.nx; ++i) {
+                const std::size_t v = rtv.voxelIndex(i, j, k);
+                if (distance[v] < 0.0f) continue;
+                const glm::dvec3 p = gdmVoxelCentre(dims, gdm.height, i, j, k);
+                std::array<double, kCoefficients> gathered{};
+                for (int n = 0; n < directions; ++n) {
+                    const float d = gdm.values[v * dims.directionCount() + std::size_t(n)];
+                    if (!(d > 0.0f) || d == kGdmMiss) continue;
+                    const glm::dvec3& w = dir[std::size_t(n)];
+                    const double cosine = glm::dot(normal[v], w);
+                    if (cosine <= 0.0) continue;
+                    glm::dvec3 q = p + std::max(double(d) - backOff, 0.0) * w;
+                    q.x -= std::floor(q.x);
+                    q.y -= std::floor(q.y);
+                    accumulate(previous, stencilAt(rtv, q), cosine * solidAngle[std::size_t(n)],
+                               gathered.data());
+                }
+                float* out = rtv.transfer.data() + v * kCoefficients;
+                const float* first = direct.data() + v * kCoefficients;
+                for (int q = 0; q < kShCount; ++q)
+                    for (int c = 0; c < 3; ++c) {
+                        const std::size_t m = std::size_t(q * 3 + c);
+                        out[m] = float(double(first[m]) + gathered[m] / std::numbers::pi);
+                    }
+            }
+        });
+    }
+    return rtv;
+}
+
+ShColor gdmRtvTransferAt(const GdmRtv& rtv, const glm::dvec3& point) {
+    std::array<double, kCoefficients> sum{};
+    glm::dvec3 q = point;
+    q.x -= std::floor(q.x);
+    q.y -= std::floor(q.y);
+    accumulate(rtv.transfer, stencilAt(rtv, q), 1.0, sum.data());
+    ShColor out{};
+    for (int k = 0; k < kShCount; ++k)
+        out[std::size_t(k)] =
+            glm::dvec3(sum[std::size_t(k * 3)], sum[std::size_t(k * 3 + 1)], sum[std::size_t(k * 3 + 2)]);
+    return out;
+}
+
+glm::dvec3 gdmRtvRadiance(const GdmRtv& rtv, const glm::dvec3& point, const ShColor& lighting) {
+    const ShColor t = gdmRtvTransferAt(rtv, point);
+    glm::dvec3 radiance(0.0);
+    for (int k = 0; k < kShCount; ++k) radiance += t[std::size_t(k)] * lighting[std::size_t(k)];
+    return radiance;
+}
+
+Image shadeGdmSceneRtv(const GdmSceneImages& hits, const GdmRtv& rtv, const ShColor& lighting,
+                       const GdmAlbedo& albedo) {
+    if (!albedo) throw Error(ErrorKind::InvalidInput, "GDM RTV shading: no albedo");
+    const int width = hits.uvw.width(), height = hits.uvw.height();
+    Image out(width, height, 3);
+    parallelFor(0, height, [&](int j) {
+        for (int i = 0; i < width; ++i) {
+            if (hits.mask.at(i, j) <= 0.0f) continue;
+            const glm::dvec3 point(hits.uvw.at(i, j, 0), hits.uvw.at(i, j, 1),
+                                   double(hits.uvw.at(i, j, 2)) * rtv.height);
+            const glm::dvec3 radiance = albedo({point.x, point.y, double(hits.uvw.at(i, j, 2))}) *
+                                        gdmRtvRadiance(rtv, point, lighting);
+            for (int c = 0; c < 3; ++c) out.at(i, j, c) = float(radiance[c]);
+        }
+    });
+    return out;
+}
+
+Image gdmSurfaceHitMask(const GdmSceneImages& hits) {
+    Image mask = hits.mask;
+    constexpr float kEdge = 1e-6f;  // the reference stores a side's u or v as 0 (or the float below 1)
+    for (int j = 0; j < mask.height(); ++j)
+        for (int i = 0; i < mask.width(); ++i) {
+            const float u = hits.uvw.at(i, j, 0), v = hits.uvw.at(i, j, 1);
+            if (u < kEdge || u > 1.0f - kEdge || v < kEdge || v > 1.0f - kEdge) mask.at(i, j) = 0.0f;
+        }
+    return mask;
+}
+
+double gdmRelativeRmse(const Image& test, const Image& testMask, const Image& reference,
+                       const Image& referenceMask) {
+    const int width = reference.width(), height = reference.height();
+    if (test.width() != width || test.height() != height || testMask.width() != width ||
+        testMask.height() != height || referenceMask.width() != width || referenceMask.height() != height ||
+        test.channels() != 3 || reference.channels() != 3)
+        throw Error(ErrorKind::InvalidInput, "GDM relative RMSE: the images' sizes differ");
+    double error = 0.0, norm = 0.0;
+    for (int j = 0; j < height; ++j)
+        for (int i = 0; i < width; ++i) {
+            if (testMask.at(i, j) <= 0.0f || referenceMask.at(i, j) <= 0.0f) continue;
+            for (int c = 0; c < 3; ++c) {
+                const double a = test.at(i, j, c), b = reference.at(i, j, c);
+                error += (a - b) * (a - b);
+                norm += b * b;
+            }
+        }
+    return norm > 0.0 ? std::sqrt(error / norm) : 0.0;
+}
+
+}  // namespace strata
