@@ -18,6 +18,11 @@
 // faces left out) with N bounces; allN the same over every pixel where both hit; sigmaN the path tracer's
 // own noise in the surface measure (the relative RMSE of two seeds / sqrt 2). The iteration times the whole
 // table (bakes, shading and path tracing), once.
+//
+// BM_GdmRtvSvd: the weave's RTV as above with 1 bounce, compressed (compressGdmRtv) at the rank of the
+// argument; timed: the compression. Counters: frob = the relative Frobenius error (from the singular
+// values), shade = the relative RMSE of the compressed RTV's shading against the full RTV's over the surface
+// hits (same scene, camera and lighting as BM_GdmRtvError, 256 x 256), MiB = W, E and the distance volume.
 // Run: build/ci/bench/bench_gdm_rtv --benchmark_min_time=0.01
 #include "strata/environment/environment.h"
 #include "strata/gdm/gdm_bake.h"
@@ -112,6 +117,35 @@ void BM_GdmRtvError(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_GdmRtvError)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+void BM_GdmRtvSvd(benchmark::State& state) {
+    const Baked& weave = baked("weave");
+    const strata::GdmAlbedo albedo = strata::mesostructureLinearAlbedo(weave.meso);
+    const strata::GdmRtv rtv = strata::bakeGdmRtv(weave.gdm, weave.distance, albedo);
+    const int rank = int(state.range(0));
+    strata::GdmRtvSvd svd;
+    for (auto _ : state) svd = strata::compressGdmRtv(rtv, rank);
+    const strata::ShColor lighting = strata::makeEnvironment("sky-overcast", 64, 32).sh();
+    const strata::GdmSceneImages hits =
+        strata::renderGdmReference(weave.solid, camera(), {0.5, 0.5, 3.0}, 256, 256);
+    const strata::Image surface = strata::gdmSurfaceHitMask(hits);
+    const strata::Image full = strata::shadeGdmSceneRtv(hits, rtv, lighting, albedo);
+    const strata::Image compressed = strata::shadeGdmSceneRtv(hits, svd.reconstruct(), lighting, albedo);
+    state.counters["frob"] = svd.relativeError();
+    state.counters["shade"] = strata::gdmRelativeRmse(compressed, surface, full, surface);
+    state.counters["MiB"] = double(svd.bytes()) / (1024.0 * 1024.0);
+}
+BENCHMARK(BM_GdmRtvSvd)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Arg(16)
+    ->Arg(24)
+    ->Arg(48)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 }  // namespace
 

@@ -3,6 +3,8 @@
 #include "strata/core/error.h"
 #include "strata/core/parallel.h"
 
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -270,6 +272,85 @@ Image shadeGdmSceneRtv(const GdmSceneImages& hits, const GdmRtv& rtv, const ShCo
         }
     });
     return out;
+}
+
+GdmRtvSvd compressGdmRtv(const GdmRtv& rtv, int rank) {
+    const std::size_t voxels = rtv.dims.voxelCount();
+    if (rank < 1 || rank > kCoefficients)
+        throw Error(ErrorKind::InvalidInput, "GDM RTV SVD: rank " + std::to_string(rank) +
+                                                 " is outside [1, " + std::to_string(kCoefficients) + "]");
+    if (rtv.transfer.size() != voxels * kCoefficients || rtv.distance.size() != voxels)
+        throw Error(ErrorKind::InvalidInput, "GDM RTV SVD: the RTV's size does not match its dims");
+    // A^T A, 48 x 48, in double.
+    Eigen::Matrix<double, kCoefficients, kCoefficients> gram =
+        Eigen::Matrix<double, kCoefficients, kCoefficients>::Zero();
+    for (std::size_t v = 0; v < voxels; ++v) {
+        const Eigen::Map<const Eigen::Matrix<float, kCoefficients, 1>> row(rtv.transfer.data() +
+                                                                           v * kCoefficients);
+        const Eigen::Matrix<double, kCoefficients, 1> r = row.cast<double>();
+        gram.selfadjointView<Eigen::Lower>().rankUpdate(r);
+    }
+    gram = gram.selfadjointView<Eigen::Lower>();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, kCoefficients, kCoefficients>> solver(gram);
+    // Eigen sorts the eigenvalues ascending; the singular values are their square roots, descending.
+    GdmRtvSvd svd;
+    svd.dims = rtv.dims;
+    svd.height = rtv.height;
+    svd.rank = rank;
+    svd.distance = rtv.distance;
+    svd.singularValues.resize(std::size_t(kCoefficients));
+    for (int n = 0; n < kCoefficients; ++n)
+        svd.singularValues[std::size_t(n)] =
+            std::sqrt(std::max(solver.eigenvalues()(kCoefficients - 1 - n), 0.0));
+    svd.basis.resize(std::size_t(rank) * kCoefficients);
+    for (int r = 0; r < rank; ++r)
+        for (int c = 0; c < kCoefficients; ++c)
+            svd.basis[std::size_t(r * kCoefficients + c)] =
+                float(solver.eigenvectors()(c, kCoefficients - 1 - r));
+    // W = A V (= U S): the projection of each row on the kept right singular vectors.
+    svd.weights.assign(voxels * std::size_t(rank), 0.0f);
+    parallelForChunks(
+        std::size_t(0), voxels,
+        [&](std::size_t from, std::size_t to) {
+            for (std::size_t v = from; v < to; ++v)
+                for (int r = 0; r < rank; ++r) {
+                    double sum = 0.0;
+                    for (int c = 0; c < kCoefficients; ++c)
+                        sum += double(rtv.transfer[v * kCoefficients + std::size_t(c)]) *
+                               solver.eigenvectors()(c, kCoefficients - 1 - r);
+                    svd.weights[v * std::size_t(rank) + std::size_t(r)] = float(sum);
+                }
+        },
+        std::size_t(1024));
+    return svd;
+}
+
+GdmRtv GdmRtvSvd::reconstruct() const {
+    GdmRtv rtv;
+    rtv.dims = dims;
+    rtv.height = height;
+    rtv.distance = distance;
+    const std::size_t voxels = dims.voxelCount();
+    rtv.transfer.assign(voxels * kCoefficients, 0.0f);
+    for (std::size_t v = 0; v < voxels; ++v)
+        for (int c = 0; c < kCoefficients; ++c) {
+            double sum = 0.0;
+            for (int r = 0; r < rank; ++r)
+                sum += double(weights[v * std::size_t(rank) + std::size_t(r)]) *
+                       double(basis[std::size_t(r * kCoefficients + c)]);
+            rtv.transfer[v * kCoefficients + std::size_t(c)] = float(sum);
+        }
+    return rtv;
+}
+
+double GdmRtvSvd::relativeError() const {
+    double kept = 0.0, total = 0.0;
+    for (std::size_t n = 0; n < singularValues.size(); ++n) {
+        const double s2 = singularValues[n] * singularValues[n];
+        total += s2;
+        if (int(n) < rank) kept += s2;
+    }
+    return total > 0.0 ? std::sqrt(std::max(total - kept, 0.0) / total) : 0.0;
 }
 
 Image gdmSurfaceHitMask(const GdmSceneImages& hits) {

@@ -125,6 +125,35 @@ Image shadeGdmSceneRtv(const GdmSceneImages& hits, const GdmRtv& rtv, const ShCo
 // black), while the RTV lookup there, across the wrap, reads the open space's transfer. 1 channel.
 Image gdmSurfaceHitMask(const GdmSceneImages& hits);
 
+// The RTV's SVD (Sec. 4.1: the paper compresses the RTV "in the same manner" as the GDM, by SVD). The
+// matrix A has one row per voxel (x, y, z in §8 order, inside voxels included as zero rows) and one column
+// per coefficient and channel (k, c), column k * 3 + c: kShCount * 3 = 48 columns, the RTV's own layout.
+// A ~ W E with W = U S (voxelCount x rank, the singular values folded in) and E = V^T (rank x 48), the best
+// rank-`rank` approximation in the Frobenius norm. Rows (x, y, z) are the natural choice here: the
+// transfer of one voxel is one short vector, and a rank-r RTV costs r floats per voxel plus 48 r floats
+// (the paper's (x, y, phi) x (theta, z) layout exists for the GDM's direction axes, which the RTV has not).
+// Decomposition: the 48 x 48 Gram matrix A^T A in double, diagonalised with Eigen's SelfAdjointEigenSolver.
+struct GdmRtvSvd {
+    GdmDims dims;          // the RTV's
+    double height = 0.25;  // H
+    int rank = 0;
+    std::vector<float> weights;          // voxelCount x rank, row-major: W = U S
+    std::vector<float> basis;            // rank x 48, row-major: E = V^T
+    std::vector<double> singularValues;  // all 48, descending (>= 0)
+    std::vector<float> distance;         // the RTV's signed distance volume, for the lookup
+
+    // The rank-`rank` RTV, W E (same dims, height and distance).
+    GdmRtv reconstruct() const;
+    // sqrt(sum over i >= rank of s_i^2 / sum of s_i^2): the relative Frobenius error of W E against A
+    // (0 when A is 0).
+    double relativeError() const;
+    std::size_t bytes() const { return (weights.size() + basis.size() + distance.size()) * sizeof(float); }
+};
+
+// Throws Error(InvalidInput) for a rank outside [1, 48] or an RTV whose transfer size does not match its
+// dims.
+GdmRtvSvd compressGdmRtv(const GdmRtv& rtv, int rank);
+
 // Relative RMSE of `test` against `reference` (3-channel radiance images of the same size) over the pixels
 // where both masks are 1: sqrt(sum |a - b|^2 / sum |b|^2), the sums over those pixels and the 3 channels.
 // Throws Error(InvalidInput) when the sizes differ; 0 when the reference is 0 there.
