@@ -48,7 +48,11 @@
 // bench/bench_gdm_rtv.cpp): for band-limited lighting L = sum_k L_k Y_k the SH projection of the transfer
 // loses nothing (the radiance is sum_k L_k T_k exactly), so the error comes from the 16 x 32 direction
 // sampling of V and of the cosine, the voxel grid (T at voxel centres up to half a voxel off the surface,
-// interpolated; a voxel's visibility is not the surface's), and the normals of the distance volume.
+// interpolated: a voxel's visibility is not the surface's, it sees a little more sky), and the normals of
+// the distance volume. Relative RMSE over the surface hits with 1 bounce, overcast sky, 45 degree view:
+// the weave 8.0% at 32 x 32 x 8 voxels (64 x 64 pixels), 3.7% at 64 x 64 x 16 (256 x 256); the chain, whose
+// links are a few voxels thick, 12.0% at 64 x 64 x 16, falling with the voxel grid (16.6%, 12.1%, 10.8% at
+// 32, 64, 96 voxels across, 96 x 96 pixels).
 //
 // Thread safety: pure functions of their arguments; the bake runs its voxel rows in parallel
 // (strata::parallelFor), so the albedo callable must be safe to call from several threads at once.
