@@ -56,12 +56,7 @@ const strata::Gdm& weave(int depth = 16) {
 }
 
 strata::Camera quadView(double degrees = 45.0) {
-    const double a = degrees * 3.14159265358979323846 / 180.0;
-    strata::Camera camera;
-    camera.eye = glm::dvec3(0.5, 0.5 - 1.6 * std::sin(a), 1.6 * std::cos(a));
-    camera.target = glm::dvec3(0.5, 0.5, 0.0);
-    camera.fovYDegrees = 45.0;
-    return camera;
+    return strata::gdmSceneView(degrees);
 }
 
 strata::gl::HeadlessContext& context() {

@@ -12,6 +12,7 @@
 // and 2 (right), tone-mapped (exposure 1, Reinhard x / (1 + x) per channel, then sRGB), 8-bit. Run:
 // build/ci/bench/bench_gdm_path_trace --benchmark_min_time=0.01
 #include "strata/gdm/gdm_path_trace.h"
+#include "strata/gdm/gdm_trace.h"
 #include "strata/gdm/mesostructure.h"
 #include "strata/gdm/mesostructure_mesh.h"
 #include "strata/image/image_io.h"
@@ -47,12 +48,7 @@ glm::dvec3 sky(const glm::dvec3& d) {
 }
 
 strata::Camera camera() {
-    const double angle = std::numbers::pi / 4.0;
-    strata::Camera c;
-    c.eye = {0.5, 0.5 - 1.6 * std::sin(angle), 1.6 * std::cos(angle)};
-    c.target = {0.5, 0.5, 0.0};
-    c.fovYDegrees = 45.0;
-    return c;
+    return strata::gdmSceneView(45.0);
 }
 
 strata::GdmPathTraceImages render(int size, int samples, int bounces) {

@@ -28,6 +28,7 @@
 #include "strata/gdm/gdm_bake.h"
 #include "strata/gdm/gdm_distance.h"
 #include "strata/gdm/gdm_rtv.h"
+#include "strata/gdm/gdm_trace.h"
 #include "strata/gdm/mesostructure.h"
 #include "strata/gdm/mesostructure_mesh.h"
 
@@ -61,12 +62,7 @@ const Baked& baked(const std::string& name) {
 }
 
 strata::Camera camera() {
-    const double angle = std::numbers::pi / 4.0;
-    strata::Camera c;
-    c.eye = {0.5, 0.5 - 1.6 * std::sin(angle), 1.6 * std::cos(angle)};
-    c.target = {0.5, 0.5, 0.0};
-    c.fovYDegrees = 45.0;
-    return c;
+    return strata::gdmSceneView(45.0);
 }
 
 void BM_GdmRtvBake(benchmark::State& state) {

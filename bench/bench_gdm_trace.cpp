@@ -76,11 +76,7 @@ void writeSideBySide(const std::string& path, const strata::GdmSceneImages* imag
 
 void BM_GdmScene(benchmark::State& state, const std::string& name, int angleDegrees) {
     const Structure& s = structure(name);
-    const double angle = angleDegrees * std::numbers::pi / 180.0;
-    strata::Camera camera;
-    camera.eye = {0.5, 0.5 - 1.6 * std::sin(angle), 1.6 * std::cos(angle)};
-    camera.target = {0.5, 0.5, 0.0};
-    camera.fovYDegrees = 45.0;
+    const strata::Camera camera = strata::gdmSceneView(angleDegrees);
     strata::GdmSceneImages reference, raw, rank8;
     for (auto _ : state) {
         reference = strata::renderGdmReference(s.solid, camera, kLight, kSize, kSize);

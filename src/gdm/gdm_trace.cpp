@@ -119,6 +119,15 @@ GdmSceneImages emulate(const GdmDims& dims, double shell, double tolerance, cons
 
 }  // namespace
 
+Camera gdmSceneView(double degreesFromNormal) {
+    const double a = degreesFromNormal * std::numbers::pi / 180.0;
+    Camera camera;
+    camera.eye = {0.5, 0.5 - 1.6 * std::sin(a), 1.6 * std::cos(a)};
+    camera.target = {0.5, 0.5, 0.0};
+    camera.fovYDegrees = 45.0;
+    return camera;
+}
+
 void validateGdmPicture(int width, int height) {
     if (width < 1 || height < 1 || width > Image::kMaxDimension || height > Image::kMaxDimension)
         throw Error(ErrorKind::InvalidInput, "GDM scene: picture size " + std::to_string(width) + " x " +

@@ -25,12 +25,7 @@ constexpr glm::dvec3 kLight{0.5, -0.6, 1.1};
 
 // Looking at the unit quad's centre from `degrees` off its normal, distance 1.6.
 Camera quadCamera(double degrees) {
-    const double a = degrees * 3.14159265358979323846 / 180.0;
-    Camera camera;
-    camera.eye = {0.5, 0.5 - 1.6 * std::sin(a), 1.6 * std::cos(a)};
-    camera.target = {0.5, 0.5, 0.0};
-    camera.fovYDegrees = 45.0;
-    return camera;
+    return gdmSceneView(degrees);
 }
 
 Image disc(int size, double cx, double cy, double radius) {

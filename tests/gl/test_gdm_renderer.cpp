@@ -52,12 +52,7 @@ const Baked& weave() {
 }
 
 Camera viewAt(double degrees) {
-    const double a = degrees * 3.14159265358979323846 / 180.0;
-    Camera camera;
-    camera.eye = glm::dvec3(0.5, 0.5 - 1.6 * std::sin(a), 1.6 * std::cos(a));
-    camera.target = glm::dvec3(0.5, 0.5, 0.0);
-    camera.fovYDegrees = 45.0;
-    return camera;
+    return gdmSceneView(degrees);
 }
 
 const glm::dvec3 kLight(0.5, -0.6, 1.1);

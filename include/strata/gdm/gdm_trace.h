@@ -42,6 +42,11 @@ struct GdmSceneImages {
     Image shadow;  // 1 channel: 1 = lit
 };
 
+// The verification scene's view used by Strata's accuracy tables and `strata gdm trace`'s defaults: towards
+// the quad's centre (0.5, 0.5, 0) from `degreesFromNormal` off its normal in the y-z plane, distance 1.6,
+// eye (0.5, 0.5 - 1.6 sin a, 1.6 cos a), vertical field of view 45 degrees, up +z.
+Camera gdmSceneView(double degreesFromNormal);
+
 // Throws Error(InvalidInput) "GDM scene: picture size W x H is outside [1, Image::kMaxDimension]" for a
 // picture the scene renderers (these, and strata::gl's) refuse.
 void validateGdmPicture(int width, int height);
