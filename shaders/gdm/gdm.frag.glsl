@@ -112,8 +112,8 @@ vec2 lookupGdm(vec3 point, vec3 direction, float dropBelow) {
 }
 
 int voxelIndex(int i, int j, int k) {
-    i = (i % uVoxels.x + uVoxels.x) % uVoxels.x;
-    j = (j % uVoxels.y + uVoxels.y) % uVoxels.y;
+    i = gdmWrap(i, uVoxels.x);
+    j = gdmWrap(j, uVoxels.y);
     k = clamp(k, 0, uVoxels.z - 1);
     return (k * uVoxels.y + j) * uVoxels.x + i;
 }
@@ -129,8 +129,8 @@ void trilinearStencil(vec3 point, ivec3 size, out int index[8], out float weight
     for (int corner = 0; corner < 8; ++corner) {
         int dx = corner & 1, dy = (corner >> 1) & 1, dz = corner >> 2;
         weight[corner] = (dx == 1 ? a.x : 1.0 - a.x) * (dy == 1 ? a.y : 1.0 - a.y) * (dz == 1 ? a.z : 1.0 - a.z);
-        int i = ((int(base.x) + dx) % size.x + size.x) % size.x;
-        int j = ((int(base.y) + dy) % size.y + size.y) % size.y;
+        int i = gdmWrap(int(base.x) + dx, size.x);
+        int j = gdmWrap(int(base.y) + dy, size.y);
         int k = min(int(base.z) + dz, size.z - 1);
         index[corner] = (k * size.y + j) * size.x + i;
     }

@@ -4,8 +4,8 @@
 // rule; CONVENTIONS §8 the sampling).
 //
 // The includer supplies the fetch gdmValue(i, j, k, t, s): the substituted value at voxel (i, j, k) and
-// direction sample (t, s), a raw miss read as the distance to the slab's boundary (gdmBoundaryDistance) and an
-// SVD's value reconstructed (gdm_svd.h).
+// direction sample (t, s), a raw miss read as the distance to the slab's boundary (gdmBoundaryDistance) and
+// an SVD's value reconstructed (gdm_svd.h).
 #ifdef __cplusplus
 #pragma once
 #endif
@@ -40,8 +40,8 @@ STRATA_SHARED_CLASS_BEGIN(GdmLookup)
 STRATA_SHARED_FETCH(float gdmValue(int i, int j, int k, int t, int s))
 
 // d(point, direction) at a point of the isotropic texture frame (u, v, w H), for a unit direction: x = the
-// distance, y = 1 for an exit (dmax, x = 1e30). Trilinear over the voxel centres (wrapping in u, v, clamped in
-// w); in (theta, phi) the nearest sample, or bilinear between the four sample centres around it (theta
+// distance, y = 1 for an exit (dmax, x = 1e30). Trilinear over the voxel centres (wrapping in u, v, clamped
+// in w); in (theta, phi) the nearest sample, or bilinear between the four sample centres around it (theta
 // clamped, phi wrapping). The same weights mix the boundary distances b, and the value is an exit iff
 // d >= b - tolerance. Corners whose value is below dropBelow are left out (the rest keep their weights: only
 // the ratio of d to b matters); none left is a hit at distance 0.

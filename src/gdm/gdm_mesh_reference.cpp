@@ -414,17 +414,12 @@ GdmSceneImages renderGdmMeshReference(const SolidMesh& solid, const Mesh& mesh,
                                       int width, int height, const GdmMeshReferenceOptions& options,
                                       GdmMeshReferenceStats* stats) {
     const std::string what = "GDM mesh reference of " + solid.source;
-    validateCamera(camera);
-    validateGdmPicture(width, height);
-    if (!(std::isfinite(solid.height) && solid.height > 0.0))
-        throw Error(ErrorKind::InvalidInput,
-                    what + ": shell height " + formatNumber(solid.height) + " is not finite and > 0");
+    detail::checkGdmSceneInput(solid, camera, width, height, what);
     if (!(options.chordTolerance > 0.0 && options.chordTolerance <= 1.0))
         throw Error(ErrorKind::InvalidInput, what + ": chord tolerance " +
                                                  formatNumber(options.chordTolerance) + " is outside (0, 1]");
     if (!(std::isfinite(light.x) && std::isfinite(light.y) && std::isfinite(light.z)))
         throw Error(ErrorKind::InvalidInput, what + ": the light position is not finite");
-    checkMesh(solid, what);
     PrismShellOptions shellOptions = shell;
     shellOptions.height = solid.height;
     const PrismShell prisms = buildPrismShell(mesh, shellOptions);

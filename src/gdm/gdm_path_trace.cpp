@@ -9,6 +9,7 @@
 
 #include "periodic_scene.h"
 #include "scene_hit.h"
+#include "scene_images.h"
 
 #include <glm/geometric.hpp>
 
@@ -93,12 +94,7 @@ GdmPathTraceImages pathTraceGdm(const SolidMesh& solid, const GdmAlbedo& albedo,
                                 const EnvironmentRadiance& environment, const Camera& camera, int width,
                                 int height, const GdmPathTraceOptions& options) {
     const std::string what = "GDM path trace of " + solid.source;
-    validateCamera(camera);
-    validateGdmPicture(width, height);
-    if (!(std::isfinite(solid.height) && solid.height > 0.0))
-        throw Error(ErrorKind::InvalidInput,
-                    what + ": shell height " + formatNumber(solid.height) + " is not finite and > 0");
-    checkMesh(solid, what);
+    detail::checkGdmSceneInput(solid, camera, width, height, what);
     if (!albedo) throw Error(ErrorKind::InvalidInput, what + ": no albedo function");
     if (!environment) throw Error(ErrorKind::InvalidInput, what + ": no environment function");
     checkOptions(options, what);

@@ -138,12 +138,7 @@ void validateGdmPicture(int width, int height) {
 GdmSceneImages renderGdmReference(const SolidMesh& solid, const Camera& camera, glm::dvec3 light, int width,
                                   int height) {
     const std::string what = "GDM reference of " + solid.source;
-    validateCamera(camera);
-    validateGdmPicture(width, height);
-    if (!(std::isfinite(solid.height) && solid.height > 0.0))
-        throw Error(ErrorKind::InvalidInput,
-                    what + ": shell height " + formatNumber(solid.height) + " is not finite and > 0");
-    checkMesh(solid, what);
+    detail::checkGdmSceneInput(solid, camera, width, height, what);
     GdmSceneImages images = detail::blankGdmImages(width, height);
     if (solid.triangles.empty()) return images;
     EmbreeErrors errors;

@@ -2,14 +2,31 @@
 // by the flat scene's renderers (gdm_trace.cpp) and the curved-base reference (gdm_mesh_reference.cpp).
 #pragma once
 
+#include "strata/core/error.h"
 #include "strata/gdm/gdm_trace.h"
+#include "strata/scene/camera.h"
+
+#include "periodic_scene.h"
 
 #include <glm/vec3.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace strata::detail {
+
+// What every renderer of the scene refuses, each naming `what`: a camera validateCamera refuses, a picture
+// size validateGdmPicture refuses, a shell height that is not finite and > 0, a mesh checkMesh refuses.
+inline void checkGdmSceneInput(const SolidMesh& solid, const Camera& camera, int width, int height,
+                               const std::string& what) {
+    validateCamera(camera);
+    validateGdmPicture(width, height);
+    if (!(std::isfinite(solid.height) && solid.height > 0.0))
+        throw Error(ErrorKind::InvalidInput,
+                    what + ": shell height " + formatNumber(solid.height) + " is not finite and > 0");
+    checkMesh(solid, what);
+}
 
 // All zero: no hit anywhere.
 inline GdmSceneImages blankGdmImages(int width, int height) {
