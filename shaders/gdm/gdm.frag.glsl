@@ -53,6 +53,12 @@ layout(std430, binding = 5) readonly buffer GdmAlbedo { float albedo[]; };
 layout(std430, binding = 6) readonly buffer GdmDistance { float distanceValues[]; };
 // Per prism, the rows of the inverse of its Jacobian (isotropic texture frame -> world): 3 vec4 (w unused).
 layout(std430, binding = 7) readonly buffer PrismLightFrames { vec4 lightFrames[]; };
+// Environment lighting (GdmRenderer::setRtv, setEnvironment). The RTV: its basis (uRtvRank x 48, column
+// k * 3 + c), its weights from uRtvWeightsAt (voxels x uRtvRank) and its inside flags from uRtvInsideAt (1
+// where the voxel centre is inside the solid). Then per prism its 3 corners (tile u, v, mesh vertex, 0) and,
+// from uLightingAt, per mesh vertex its meso-scale lighting (16 coefficients x RGB).
+layout(std430, binding = 8) readonly buffer Rtv { float rtvData[]; };
+layout(std430, binding = 9) readonly buffer EnvironmentLighting { float environmentData[]; };
 
 uniform mat4 uViewProjection;
 uniform vec3 uEye;
@@ -73,6 +79,11 @@ uniform float uHeight;     // H
 uniform int uRank;         // k; 0: the raw GDM
 uniform float uTolerance;  // the exit rule's, tile widths along the ray
 uniform bool uBilinearDirections;
+uniform bool uEnvironment;  // shade with the RTV and the per-vertex lighting instead of the ambient term
+uniform int uRtvRank;
+uniform int uRtvWeightsAt;
+uniform int uRtvInsideAt;
+uniform int uLightingAt;
 
 const float kShadowBackoffVoxels = 1.0;
 const float kShadowDropVoxels = 0.5;
@@ -171,9 +182,95 @@ vec3 volumeNormal(vec3 p) {
     return length(gradient) > 1e-6 ? normalize(gradient) : vec3(0.0);
 }
 
+// The diffuse environment term of a hit at texture point p (Wang et al. 2004, Sec. 4.2): the RTV's transfer
+// there dotted with the meso-scale lighting there, per channel, for albedo 1 (gdmRtvRadiance's, with
+// gdmRtvTransferAt's lookup: trilinear over the voxel centres, wrapping in u, v and clamped in w, the corners
+// inside the solid left out and the others' weights renormalised; all 8 inside: the nearest outside voxel
+// centre of the 4 x 4 x 4 around the cell). The transfer is linear in the SVD's weights, so the weights are
+// interpolated first and the basis applied once.
+vec3 environmentTerm(vec3 p) {
+    // The lighting: the prism's corners' per-vertex lighting, barycentric at the hit's (u, v) in the
+    // prism's footprint (clamped to it: a hit a rounding error outside).
+    int corner = int(vIn.prism) * 12;
+    vec2 t0 = vec2(environmentData[corner], environmentData[corner + 1]);
+    vec2 t1 = vec2(environmentData[corner + 4], environmentData[corner + 5]);
+    vec2 t2 = vec2(environmentData[corner + 8], environmentData[corner + 9]);
+    vec2 e1 = t1 - t0, e2 = t2 - t0, q = p.xy - t0;
+    float det = e1.x * e2.y - e2.x * e1.y;
+    vec3 b = vec3(1.0, 0.0, 0.0);
+    if (abs(det) > 1e-20) {
+        float b1 = (q.x * e2.y - e2.x * q.y) / det, b2 = (e1.x * q.y - q.x * e1.y) / det;
+        b = max(vec3(1.0 - b1 - b2, b1, b2), vec3(0.0));
+        b /= max(b.x + b.y + b.z, 1e-20);
+    }
+    int v0 = uLightingAt + 48 * int(environmentData[corner + 2]);
+    int v1 = uLightingAt + 48 * int(environmentData[corner + 6]);
+    int v2 = uLightingAt + 48 * int(environmentData[corner + 10]);
+    // The RTV stencil.
+    float fx = p.x * float(uVoxels.x) - 0.5, fy = p.y * float(uVoxels.y) - 0.5;
+    float fz = clamp(p.z / uHeight * float(uVoxels.z) - 0.5, 0.0, float(uVoxels.z - 1));
+    vec3 cell = floor(vec3(fx, fy, fz));
+    vec3 a = vec3(fx, fy, fz) - cell;
+    int voxel[8];
+    float weight[8];
+    int count = 0;
+    float total = 0.0;
+    for (int c = 0; c < 8; ++c) {
+        int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
+        float w = (dx == 1 ? a.x : 1.0 - a.x) * (dy == 1 ? a.y : 1.0 - a.y) * (dz == 1 ? a.z : 1.0 - a.z);
+        if (w <= 0.0) continue;
+        int index = voxelIndex(int(cell.x) + dx, int(cell.y) + dy, min(int(cell.z) + dz, uVoxels.z - 1));
+        if (rtvData[uRtvInsideAt + index] > 0.5) continue;
+        voxel[count] = index;
+        weight[count] = w;
+        total += w;
+        ++count;
+    }
+    if (count == 0) {
+        float best = 1e30;
+        for (int dk = -1; dk <= 2; ++dk)
+            for (int dj = -1; dj <= 2; ++dj)
+                for (int di = -1; di <= 2; ++di) {
+                    int k = int(cell.z) + dk;
+                    if (k < 0 || k >= uVoxels.z) continue;
+                    int index = voxelIndex(int(cell.x) + di, int(cell.y) + dj, k);
+                    if (rtvData[uRtvInsideAt + index] > 0.5) continue;
+                    vec3 offset = vec3((float(di) - a.x) / float(uVoxels.x), (float(dj) - a.y) / float(uVoxels.y),
+                                       (float(dk) - a.z) * uHeight / float(uVoxels.z));
+                    float length2 = dot(offset, offset);
+                    if (length2 < best) {
+                        best = length2;
+                        voxel[0] = index;
+                        weight[0] = 1.0;
+                        count = 1;
+                        total = 1.0;
+                    }
+                }
+        if (count == 0) return vec3(0.0);
+    }
+    // Per basis function r: its interpolated weight times the basis row dotted with the lighting.
+    vec3 radiance = vec3(0.0);
+    for (int r = 0; r < uRtvRank; ++r) {
+        float w = 0.0;
+        for (int c = 0; c < count; ++c) w += weight[c] * rtvData[uRtvWeightsAt + voxel[c] * uRtvRank + r];
+        if (w == 0.0) continue;
+        vec3 dotted = vec3(0.0);
+        int row = r * 48;
+        for (int k = 0; k < 16; ++k) {
+            vec3 l = b.x * vec3(environmentData[v0 + 3 * k], environmentData[v0 + 3 * k + 1], environmentData[v0 + 3 * k + 2]) +
+                     b.y * vec3(environmentData[v1 + 3 * k], environmentData[v1 + 3 * k + 1], environmentData[v1 + 3 * k + 2]) +
+                     b.z * vec3(environmentData[v2 + 3 * k], environmentData[v2 + 3 * k + 1], environmentData[v2 + 3 * k + 2]);
+            dotted += vec3(rtvData[row + 3 * k], rtvData[row + 3 * k + 1], rtvData[row + 3 * k + 2]) * l;
+        }
+        radiance += (w / total) * dotted;
+    }
+    return radiance;
+}
+
 // Shading of a hit at texture point T (world P), the ray's texture direction V: the normal is volumeNormal's,
-// taken to world by the mesh's interpolated tangent frame; the albedo is the nearest voxel's; Blinn-Phong
-// with the local shadow.
+// taken to world by the mesh's interpolated tangent frame; the albedo is trilinear between the voxel
+// centres; Blinn-Phong with the local shadow, plus the ambient term or, with an environment,
+// environmentTerm.
 vec3 shade(vec3 texturePoint, vec3 worldPoint, vec3 direction, bool lit) {
     vec3 n = volumeNormal(texturePoint);
     // Where the gradient vanishes (a hit on the shell's cut face), the face faces the ray.
@@ -184,16 +281,17 @@ vec3 shade(vec3 texturePoint, vec3 worldPoint, vec3 direction, bool lit) {
     vec3 toLight = normalize(uLight - worldPoint);
     vec3 colour = vec3(0.7);
     if (uHasAlbedo) {
-        int i = int(floor(texturePoint.x * float(uVoxels.x)));
-        int j = int(floor(texturePoint.y * float(uVoxels.y)));
-        int k = int(floor(texturePoint.z / uHeight * float(uVoxels.z)));
-        int v = voxelIndex(i, j, k);
-        colour = vec3(albedo[3 * v], albedo[3 * v + 1], albedo[3 * v + 2]);
+        int index[8];
+        float weight[8];
+        trilinearStencil(texturePoint, uVoxels, index, weight);
+        colour = vec3(0.0);
+        for (int c = 0; c < 8; ++c) colour += weight[c] * vec3(albedo[3 * index[c]], albedo[3 * index[c] + 1], albedo[3 * index[c] + 2]);
     }
     // Blinn-Phong as the relief renderer's (shaders/relief/relief.frag.glsl).
     float diffuse = max(dot(world, toLight), 0.0);
     float specular = diffuse > 0.0 ? uSpecular * pow(max(dot(world, normalize(toLight + toEye)), 0.0), uShininess) : 0.0;
-    vec3 result = uAmbient * colour;
+    // The environment (bi-scale radiance transfer) replaces the ambient term.
+    vec3 result = uEnvironment ? colour * environmentTerm(texturePoint) : uAmbient * colour;
     if (lit) result += uLightColor * (diffuse * colour + specular);
     return result;
 }

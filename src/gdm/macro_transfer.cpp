@@ -135,6 +135,7 @@ MacroTransfer bakeMacroTransfer(const Mesh& mesh, const MacroTransferOptions& op
             rtcInitIntersectContext(&context);
             for (std::size_t q = 0; q < nodes; ++q) {
                 const glm::dvec3& w = quadrature.directions[q];
+                if (!options.lowerHemisphere && glm::dot(w, normal) <= 0.0) continue;
                 RTCRay ray{};
                 ray.org_x = float(origin.x);
                 ray.org_y = float(origin.y);

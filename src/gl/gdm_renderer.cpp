@@ -88,6 +88,19 @@ struct GdmRenderer::Impl {
     bool hasMesh = false;
     Buffer entryVertices, baseVertices, faces;
     Buffer lightFrames;  // per prism, the rows of J^-1 (gdmPrismJacobian) as 3 vec4
+    // Environment lighting (setRtv, setMacroTransfer, setEnvironment). One buffer each, so that the fragment
+    // stage stays within 10 storage blocks:
+    //   rtv: the basis (rank x 48), then the weights (voxels x rank), then the inside flags (1 inside, per
+    //        voxel): the GLSL reads them at uRtvWeightsAt and uRtvInsideAt;
+    //   environment: per prism its 3 corners (tile u, v, mesh vertex index, 0), then per mesh vertex its
+    //        meso-scale lighting (16 coefficients x RGB), at uLightingAt.
+    Buffer rtv, environment;
+    int rtvRank = 0;  // 0: none
+    std::size_t rtvWeightsAt = 0, rtvInsideAt = 0;
+    std::vector<float> prismCorners;  // 4 floats per corner, 3 corners per prism (setMesh)
+    std::size_t meshVertexCount = 0;
+    std::vector<float> macroTransfer;  // 256 floats per mesh vertex; empty: none
+    bool hasEnvironment = false;
     // The entry array holds the tops and fins, then the base faces turned to face down (entries from below);
     // entryCount counts the first part only.
     GLsizei entryCount = 0, baseCount = 0, belowCount = 0;
@@ -104,11 +117,44 @@ struct GdmRenderer::Impl {
         albedo.store(none);
         signedDistance.store(none);
         hasOccupancy = hasAlbedo = hasDistance = false;
+        rtv.store(none);
+        rtvRank = 0;
+        hasEnvironment = false;
+        macroTransfer.clear();
         rank = k;
         tolerance = tol;
         hasMesh = false;  // the shell's thickness and texture positions depend on H
     }
 
+    // The flat RTV buffer of setRtv: basis, weights, inside flags.
+    void storeRtv(const GdmDims& grid, int rtvRankIn, const std::vector<float>& basis,
+                  const std::vector<float>& rtvWeights, const std::vector<float>& distance,
+                  const char* what) {
+        if (!this->dims)
+            throw Error(ErrorKind::InvalidInput, std::string("GdmRenderer: set the GDM before ") + what);
+        if (grid.nx != dims->nx || grid.ny != dims->ny || grid.nz != dims->nz)
+            throw Error(ErrorKind::InvalidInput,
+                        std::string("GdmRenderer: ") + what + " is on a " + std::to_string(grid.nx) + " x " +
+                            std::to_string(grid.ny) + " x " + std::to_string(grid.nz) + " grid, the GDM on " +
+                            std::to_string(dims->nx) + " x " + std::to_string(dims->ny) + " x " +
+                            std::to_string(dims->nz));
+        const std::size_t voxels = grid.voxelCount();
+        const std::size_t width = std::size_t(kShCount) * 3;
+        if (rtvRankIn < 1 || basis.size() != std::size_t(rtvRankIn) * width ||
+            rtvWeights.size() != voxels * std::size_t(rtvRankIn) || distance.size() != voxels)
+            throw Error(ErrorKind::InvalidInput,
+                        std::string("GdmRenderer: ") + what + "'s maps do not match its rank and grid");
+        std::vector<float> data;
+        data.reserve(basis.size() + rtvWeights.size() + voxels);
+        data.insert(data.end(), basis.begin(), basis.end());
+        data.insert(data.end(), rtvWeights.begin(), rtvWeights.end());
+        for (const float d : distance) data.push_back(d < 0.0f ? 1.0f : 0.0f);
+        rtv.store(data);
+        checkGl("GdmRenderer: uploading the RTV");
+        rtvRank = rtvRankIn;
+        rtvWeightsAt = basis.size();
+        rtvInsideAt = basis.size() + rtvWeights.size();
+    }
     static void describe(const VertexArray& array, const Buffer& buffer) {
         glVertexArrayVertexBuffer(array.id, 0, buffer.id, 0, sizeof(Vertex));
         for (GLuint a = 0; a < 6; ++a) {
@@ -170,6 +216,14 @@ struct GdmRenderer::Impl {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, albedo.id);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, signedDistance.id);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, lightFrames.id);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, rtv.id);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, environment.id);
+        const bool lit = hasEnvironment && rtvRank > 0;
+        glUniform1i(program.uniformLocation("uEnvironment"), lit ? 1 : 0);
+        glUniform1i(program.uniformLocation("uRtvRank"), rtvRank);
+        glUniform1i(program.uniformLocation("uRtvWeightsAt"), GLint(rtvWeightsAt));
+        glUniform1i(program.uniformLocation("uRtvInsideAt"), GLint(rtvInsideAt));
+        glUniform1i(program.uniformLocation("uLightingAt"), GLint(prismCorners.size()));
         glBindVertexArray(array.id);
         glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer());
         glViewport(0, 0, width, height);
@@ -257,6 +311,8 @@ void GdmRenderer::setMesh(const Mesh& mesh, const PrismShellOptions& shellOption
     faces.reserve(shell.prisms.size() * 48);
     std::vector<glm::vec4> lightFrames;
     lightFrames.reserve(shell.prisms.size() * 3);
+    std::vector<float> prismCorners;
+    prismCorners.reserve(shell.prisms.size() * 12);
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
     for (std::size_t p = 0; p < shell.prisms.size(); ++p) {
         std::array<glm::dvec3, 3> prismBase, prismTop;
@@ -265,6 +321,10 @@ void GdmRenderer::setMesh(const Mesh& mesh, const PrismShellOptions& shellOption
             prismBase[c] = glm::dvec3(shell.base[shell.prisms[p][c]]);
             prismTop[c] = glm::dvec3(shell.top[shell.prisms[p][c]]);
             prismTile[c] = options.tiling * glm::dvec2(mesh.vertices[shell.corners[p][c]].uv);
+            // The corner's tile position as the faces' texture positions have it, and its mesh vertex (a
+            // float holds an index exactly up to 2^24).
+            prismCorners.insert(prismCorners.end(), {float(prismTile[c].x), float(prismTile[c].y),
+                                                     float(shell.corners[p][c]), 0.0f});
         }
         const glm::dmat3 jacobian = gdmPrismJacobian(prismBase, prismTop, prismTile, options.height);
         const double determinant = glm::determinant(jacobian);
@@ -317,6 +377,11 @@ void GdmRenderer::setMesh(const Mesh& mesh, const PrismShellOptions& shellOption
     mImpl->lo = lo;
     mImpl->hi = hi;
     mImpl->hasMesh = true;
+    mImpl->prismCorners = std::move(prismCorners);
+    mImpl->meshVertexCount = mesh.vertices.size();
+    mImpl->macroTransfer.clear();
+    mImpl->environment.store(std::vector<float>{});
+    mImpl->hasEnvironment = false;
 }
 
 GdmSceneImages GdmRenderer::render(const Camera& camera, glm::dvec3 light, int width, int height,
@@ -401,7 +466,58 @@ GdmGpuMemory GdmRenderer::gpuMemory() const {
     memory.gdm = m.weights.bytes + m.eigen.bytes + m.raw.bytes;
     memory.volumes = m.occupancy.bytes + m.albedo.bytes + m.signedDistance.bytes;
     memory.shell = m.entryVertices.bytes + m.baseVertices.bytes + m.faces.bytes + m.lightFrames.bytes;
+    memory.environment = m.rtvRank > 0 || m.hasEnvironment ? m.rtv.bytes + m.environment.bytes : 0;
     return memory;
+}
+
+void GdmRenderer::setRtv(const GdmRtv& rtv) {
+    // Uncompressed: the transfer itself as the weights of rank 48, with the identity basis.
+    const std::size_t width = std::size_t(kShCount) * 3;
+    std::vector<float> identity(width * width, 0.0f);
+    for (std::size_t n = 0; n < width; ++n) identity[n * width + n] = 1.0f;
+    mImpl->storeRtv(rtv.dims, int(width), identity, rtv.transfer, rtv.distance, "the RTV");
+}
+
+void GdmRenderer::setRtv(const GdmRtvSvd& rtv) {
+    mImpl->storeRtv(rtv.dims, rtv.rank, rtv.basis, rtv.weights, rtv.distance, "the RTV's SVD");
+}
+
+void GdmRenderer::setMacroTransfer(const MacroTransfer& transfer) {
+    if (!mImpl->hasMesh)
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the mesh before its macro transfer");
+    if (transfer.matrices.size() != mImpl->meshVertexCount * std::size_t(kShCount * kShCount))
+        throw Error(ErrorKind::InvalidInput,
+                    "GdmRenderer: the macro transfer has " + std::to_string(transfer.vertexCount()) +
+                        " vertices, the mesh " + std::to_string(mImpl->meshVertexCount));
+    mImpl->macroTransfer = transfer.matrices;
+    mImpl->hasEnvironment = false;
+}
+
+void GdmRenderer::setEnvironment(const ShColor& world) {
+    Impl& m = *mImpl;
+    if (m.macroTransfer.empty())
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the macro transfer before the environment");
+    std::vector<float> data(m.prismCorners);
+    const std::size_t width = std::size_t(kShCount) * 3;
+    data.resize(m.prismCorners.size() + m.meshVertexCount * width);
+    float* lighting = data.data() + m.prismCorners.size();
+    for (std::size_t v = 0; v < m.meshVertexCount; ++v) {
+        const ShColor local =
+            applyMacroTransfer(m.macroTransfer.data() + v * std::size_t(kShCount * kShCount), world);
+        for (std::size_t k = 0; k < std::size_t(kShCount); ++k)
+            for (int c = 0; c < 3; ++c) lighting[v * width + k * 3 + std::size_t(c)] = float(local[k][c]);
+    }
+    m.environment.store(data);
+    checkGl("GdmRenderer: uploading the environment lighting");
+    m.hasEnvironment = true;
+}
+
+void GdmRenderer::clearEnvironment() {
+    mImpl->hasEnvironment = false;
+}
+
+bool GdmRenderer::hasEnvironment() const {
+    return mImpl->hasEnvironment && mImpl->rtvRank > 0;
 }
 
 void GdmRenderer::setBaseEntry(bool enabled) {

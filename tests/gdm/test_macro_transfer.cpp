@@ -67,6 +67,7 @@ TEST(MacroTransfer, ASphereHidesTheConeItSubtends) {
     const Mesh sphere = makeBuiltinMesh("sphere", {16});
     MacroTransferOptions options;
     options.shellThickness = 0.05;
+    options.lowerHemisphere = true;  // the sphere lies below every vertex's tangent plane
     const MacroTransfer transfer = bakeMacroTransfer(sphere, options);
     const Bounds bounds = meshBounds(sphere);
     const double d =
@@ -92,6 +93,26 @@ TEST(MacroTransfer, ASphereHidesTheConeItSubtends) {
     ShVector luminance{};
     for (int k = 0; k < kShCount; ++k) luminance[std::size_t(k)] = local[std::size_t(k)].x;
     EXPECT_GT(shDominantDirection(luminance).z, 0.95);
+}
+
+TEST(MacroTransfer, ThePlaneBelowIsLeftToTheMesoScale) {
+    // The quad hides nothing above its own plane: by default M is the identity (the quad's frame is world).
+    // Tested below the plane too, a corner vertex sees the quad fill a quarter of the lower hemisphere, an
+    // eighth of the sphere: M_00 = 7/8 (the quadrature resolves the quarter's straight edges through the
+    // corner exactly up to its node spacing).
+    const Mesh quad = makeBuiltinMesh("quad");
+    const MacroTransfer transfer = bakeMacroTransfer(quad);
+    double worst = 0.0;
+    for (std::size_t v = 0; v < quad.vertices.size(); ++v)
+        for (int i = 0; i < kShCount; ++i)
+            for (int j = 0; j < kShCount; ++j)
+                worst = std::max(
+                    worst, std::abs(double(transfer.matrix(v)[i * kShCount + j]) - (i == j ? 1.0 : 0.0)));
+    EXPECT_LT(worst, 1e-6);
+    MacroTransferOptions options;
+    options.lowerHemisphere = true;
+    const MacroTransfer below = bakeMacroTransfer(quad, options);
+    for (std::size_t v = 0; v < quad.vertices.size(); ++v) EXPECT_NEAR(below.matrix(v)[0], 0.875, 0.01) << v;
 }
 
 TEST(MacroTransfer, RefusesBadInput) {

@@ -9,9 +9,10 @@
 // with w a world direction, R the rotation from world to the vertex's frame (rows T, B, N, the mesh's unit
 // normal and its tangent made orthogonal to it), and V(w) = 1 where a ray from just above the shell at the
 // vertex (P + T N, lifted by `offset` along N) in direction w leaves the mesh without meeting one of its
-// triangles (Embree), else 0. The integral runs over shQuadrature()'s 2560 directions, exact for products of
-// band-3 functions, so M = D(R) (I - sum over the occluded directions of w Y Y^T), D(R) the SH rotation
-// (ShRotation). Without occlusion (options.occlusion = false) V = 1 and M = D(R).
+// triangles (Embree), else 0; directions below the vertex's tangent plane count as visible unless
+// options.lowerHemisphere (see there). The integral runs over shQuadrature()'s 2560 directions, exact for
+// products of band-3 functions, so M = D(R) (I - sum over the occluded directions of w Y Y^T), D(R) the SH
+// rotation (ShRotation). Without occlusion (options.occlusion = false) V = 1 and M = D(R).
 #pragma once
 
 #include "strata/environment/spherical_harmonics.h"
@@ -31,6 +32,13 @@ struct MacroTransferOptions {
     double offset = 1e-4;
     // The mesh shadows itself (true, default) or is transparent (false: M is the pure rotation).
     bool occlusion = true;
+    // Whether directions below the vertex's tangent plane (w . N <= 0) are tested too. Default false: they
+    // are left visible, because the meso-scale transfer already blocks them (the RTV, like pathTraceGdm,
+    // blocks every ray that leaves the mesostructure through its base), and masking them here as well would,
+    // through the band-3 projection of the hemisphere's sharp edge, ring into the upper hemisphere: on a flat
+    // plane the lighting would no longer be the environment's (at a corner of the quad M_00 would be 7/8).
+    // With it false, M is the pure rotation wherever the mesh is nowhere above a vertex's tangent plane.
+    bool lowerHemisphere = false;
 };
 
 // Per vertex of the mesh, in its order: 256 floats, M row-major (M[16 i + j]).

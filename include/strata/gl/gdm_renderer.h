@@ -13,9 +13,12 @@
 // refuses and for an SVD that is not in the paper's layout, Error(Runtime) on a GL error.
 #pragma once
 
+#include "strata/environment/spherical_harmonics.h"
 #include "strata/gdm/gdm.h"
+#include "strata/gdm/gdm_rtv.h"
 #include "strata/gdm/gdm_svd.h"
 #include "strata/gdm/gdm_trace.h"
+#include "strata/gdm/macro_transfer.h"
 #include "strata/gdm/prism_shell.h"
 #include "strata/mesh/mesh.h"
 #include "strata/scene/camera.h"
@@ -87,7 +90,10 @@ struct GdmGpuMemory {
     std::size_t gdm = 0;      // the SVD's weight and eigen maps, or the raw GDM (floats)
     std::size_t volumes = 0;  // occupancy, linear albedo and signed distance (floats per voxel)
     std::size_t shell = 0;    // the prisms' faces, vertices and light frames
-    std::size_t total() const { return gdm + volumes + shell; }
+    // Environment lighting: the RTV's weight and basis maps and inside flags, the prisms' corners and the
+    // per-vertex meso-scale lighting.
+    std::size_t environment = 0;
+    std::size_t total() const { return gdm + volumes + shell + environment; }
 };
 
 // The renderer behind the functions above, for drawing many pictures: the program is built once, the GDM
@@ -144,14 +150,45 @@ public:
     // is a miss.
     void setBaseEntry(bool enabled);
 
+    // Environment lighting with bi-scale radiance transfer (issue 19; Wang et al. 2004, Sec. 3.2 "Global
+    // Illumination" and Sec. 4.2: "we first compute the per-vertex matrix/vector multiplication on the CPU to
+    // obtain the incoming meso-scale radiance. Then the RTV vector for each pixel is reconstructed and dotted
+    // with the interpolated incoming radiance vector"). With an RTV, the mesh's macro transfer and an
+    // environment set, renderShaded adds to each hit
+    //     albedo(hit) * sum over k of T_k(hit) L_k(hit), per channel,
+    // T the RTV's transfer at the hit's texture point (gdmRtvTransferAt's lookup: trilinear, the corners
+    // inside the solid left out) and L the meso-scale lighting there: the per-vertex lighting M_v * E (M_v
+    // the vertex's macro transfer, E the environment's SH in world space) of the hit's prism's three corners,
+    // interpolated with the barycentrics of the hit's (u, v) in the prism's footprint. The environment
+    // replaces the ambient term; the point light adds its Blinn-Phong term with its local shadow as without
+    // it (set its colour to 0 for the environment alone).
+    //
+    // The RTV of the GDM set last (same voxel grid): uncompressed (uploaded as rank 48 with the identity
+    // basis) or its SVD (compressGdmRtv). Throws Error(InvalidInput) before setGdm or for another grid.
+    // setGdm forgets it.
+    void setRtv(const GdmRtv& rtv);
+    void setRtv(const GdmRtvSvd& rtv);
+    // The macro transfer of the mesh set last (bakeMacroTransfer of the same mesh: one matrix per mesh
+    // vertex). Throws Error(InvalidInput) before setMesh or for another vertex count. setMesh forgets it.
+    void setMacroTransfer(const MacroTransfer& transfer);
+    // The distant lighting, SH of the radiance in world space (Environment::sh(), rotated and scaled as the
+    // caller likes): per vertex M_v times it, on the CPU, uploaded. Cheap: call it per frame to turn the
+    // environment. Throws Error(InvalidInput) before setMacroTransfer.
+    void setEnvironment(const ShColor& world);
+    // Back to the ambient term: no environment lighting.
+    void clearEnvironment();
+    // Whether renderShaded draws with the environment (an RTV, a macro transfer and an environment set).
+    bool hasEnvironment() const;
+
     // What the renderer holds on the GPU now.
     GdmGpuMemory gpuMemory() const;
 
     // A shaded picture: linear RGB and alpha 1 on a hit, all 0 elsewhere. The normal is the signed
     // distance's gradient where there is one (setDistance), else minus the occupancy's, at the hit (central
     // differences one voxel apart), taken to world space by the mesh's interpolated tangent frame; the albedo
-    // is the nearest voxel's (0.7 grey without one); Blinn-Phong from the point light, with the local shadow
-    // of render(). Throws Error(InvalidInput) without the occupancy volume (setVolumes).
+    // is trilinear between the albedo volume's voxel centres (0.7 grey without one); Blinn-Phong from the
+    // point light, with the local shadow of render(). Throws Error(InvalidInput) without the occupancy volume
+    // (setVolumes).
     Image renderShaded(const Camera& camera, glm::dvec3 light, int width, int height,
                        GdmDirectionLookup directions = GdmDirectionLookup::Nearest,
                        GdmTechnique technique = GdmTechnique::Gdm);
