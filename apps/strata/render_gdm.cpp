@@ -48,6 +48,9 @@ std::vector<RenderedScene> renderGdmScene(const Scene& scene, const std::vector<
                 << (scene.gdm.lightFrame == GdmLightFrame::Jacobian ? ", Jacobian light" : "") << ", tiling "
                 << formatNumber(scene.relief.tiling) << ", T = " << formatNumber(prisms.thickness) << ", "
                 << scene.picture.width << "x" << scene.picture.height;
+        if (gdm.environment && (scene.environment.rotation != 0.0 || scene.environment.intensity != 1.0))
+            summary << ", environment turned " << formatNumber(scene.environment.rotation) << " degrees, x "
+                    << formatNumber(scene.environment.intensity);
         if (scene.picture.output != RenderOutput::Shaded)
             summary << ", " << toString(scene.picture.output);
         else if (scene.picture.samples > 1)

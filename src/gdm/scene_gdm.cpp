@@ -1,10 +1,16 @@
 #include "strata/gdm/scene_gdm.h"
 
 #include "strata/core/error.h"
+#include "strata/environment/environment.h"
+#include "strata/environment/sh_rotation.h"
 #include "strata/gdm/gdm_bake.h"
 #include "strata/gdm/gdm_distance.h"
+#include "strata/gdm/gdm_path_trace.h"
 #include "strata/gdm/mesostructure.h"
 #include "strata/gdm/mesostructure_mesh.h"
+
+#include <glm/gtc/constants.hpp>
+#include <glm/trigonometric.hpp>
 
 #include <algorithm>
 
@@ -47,6 +53,60 @@ GdmAsset bakeBuiltin(const std::string& name, const SceneProgress& progress) {
     asset.solid = std::move(solid);
     asset.source = "meso " + name;
     return asset;
+}
+
+// The RTV and the environment of a scene with `env` (loadSceneGdm's contract).
+void loadEnvironmentLighting(const Scene& scene, SceneGdm& out, const SceneProgress& progress) {
+    const EnvironmentSettings& settings = scene.environment;
+    if (progress) progress("environment " + settings.source);
+    Environment environment = [&] {
+        try {
+            return openEnvironment(settings.source);
+        } catch (const Error& e) {
+            throw Error(e.kind(), std::string("env: ") + e.what());
+        }
+    }();
+    if (!environment.isProcedural()) out.inputs.emplace_back(settings.source);
+    out.environmentName = environment.name();
+    out.environmentSh = environment.sh();
+    out.environment = turnEnvironment(environment.sh(), settings.rotation, settings.intensity);
+
+    GdmAsset& asset = out.asset;
+    Gdm rebaked;
+    const Gdm* raw = asset.raw ? &*asset.raw : nullptr;
+    if (!raw) {
+        if (!asset.solid)
+            throw Error(
+                ErrorKind::InvalidInput,
+                scene.gdm.source +
+                    ": env: the radiance transfer is baked from the raw GDM or the solid, and the asset "
+                    "holds neither (raw.f32, solid.obj): bake it again with `strata gdm bake`");
+        if (progress) progress("baking the GDM again from the solid, for the radiance transfer");
+        rebaked = bakeGdm(*asset.solid, asset.svd.dims);
+        raw = &rebaked;
+    }
+    std::vector<float> distance = asset.distance;
+    if (distance.empty()) {
+        if (!asset.solid)
+            throw Error(ErrorKind::InvalidInput, scene.gdm.source +
+                                                     ": env: the radiance transfer needs the signed distance "
+                                                     "(distance.f32) or the solid (solid.obj)");
+        distance = bakeGdmDistance(*asset.solid, asset.svd.dims);
+    }
+    const GdmDims& dims = asset.svd.dims;
+    const GdmAlbedo albedo = asset.albedo.empty()
+                                 ? GdmAlbedo([](const glm::dvec3&) { return glm::dvec3(0.7); })
+                                 : gdmVolumeAlbedo(asset.albedo, dims.nx, dims.ny, dims.nz);
+    if (progress)
+        progress("radiance transfer, " + std::to_string(settings.bounces) + " bounce" +
+                 (settings.bounces == 1 ? "" : "s"));
+    GdmRtvOptions options;
+    options.bounces = settings.bounces;
+    const GdmRtv rtv = bakeGdmRtv(*raw, distance, albedo, options);
+    out.rtv = compressGdmRtv(rtv, settings.rank);
+    out.description += ", " + out.environmentName + " (RTV rank " + std::to_string(settings.rank) + ", " +
+                       std::to_string(settings.bounces) + " bounce" + (settings.bounces == 1 ? "" : "s") +
+                       ")";
 }
 
 }  // namespace
@@ -101,7 +161,18 @@ SceneGdm loadSceneGdm(const Scene& scene, const SceneProgress& progress) {
                       : truncateGdmSvd(out.asset.svd, settings.rank);
         out.description += ", rank " + std::to_string(out.svd.rank);
     }
+    if (!scene.environment.source.empty()) loadEnvironmentLighting(scene, out, progress);
     return out;
+}
+
+ShColor turnEnvironment(const ShColor& world, double degrees, double intensity) {
+    const double a = glm::radians(degrees);
+    // Columns of the rotation about +z by a: a light from direction d moves to R d.
+    const glm::dmat3 rotation(glm::dvec3(std::cos(a), std::sin(a), 0.0),
+                              glm::dvec3(-std::sin(a), std::cos(a), 0.0), glm::dvec3(0.0, 0.0, 1.0));
+    ShColor turned = shRotate(world, rotation);
+    for (glm::dvec3& c : turned) c *= intensity;
+    return turned;
 }
 
 }  // namespace strata

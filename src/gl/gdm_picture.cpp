@@ -1,6 +1,7 @@
 #include "strata/gl/gdm_picture.h"
 
 #include "strata/core/error.h"
+#include "strata/gdm/macro_transfer.h"
 #include "strata/image/srgb.h"
 
 #include <epoxy/gl.h>
@@ -41,6 +42,13 @@ PrismShellOptions prepareGdmRenderer(GdmRenderer& renderer, const SceneGdm& gdm,
     if (!gdm.asset.distance.empty()) renderer.setDistance(gdm.asset.distance);
     renderer.setLightFrame(scene.gdm.lightFrame);
     renderer.setLighting(scene.lighting);
+    if (gdm.rtv && gdm.environment) {
+        renderer.setRtv(*gdm.rtv);
+        MacroTransferOptions macro;
+        macro.shellThickness = buildPrismShell(mesh, shell).thickness;
+        renderer.setMacroTransfer(bakeMacroTransfer(mesh, macro));
+        renderer.setEnvironment(*gdm.environment);
+    }
     return shell;
 }
 

@@ -205,4 +205,18 @@ void validate(const GdmSettings& gdm, const PictureSettings& picture) {
             "gdm");
 }
 
+void validate(const EnvironmentSettings& e, const GdmSettings& gdm) {
+    if (!std::isfinite(e.rotation)) outOfRange("env_rotation", "finite (degrees)", e.rotation);
+    if (!(std::isfinite(e.intensity) && e.intensity >= 0.0)) outOfRange("env_intensity", ">= 0", e.intensity);
+    if (e.bounces < 0 || e.bounces > 8) outOfRange("env_bounces", "in [0, 8]", e.bounces);
+    if (e.rank < 1 || e.rank > 48) outOfRange("env_rank", "in [1, 48]", e.rank);
+    const EnvironmentSettings defaults;
+    if (gdm.source.empty() &&
+        (!e.source.empty() || e.rotation != defaults.rotation || e.intensity != defaults.intensity ||
+         e.bounces != defaults.bounces || e.rank != defaults.rank))
+        throw Error(
+            ErrorKind::InvalidInput,
+            "env, env_rotation, env_intensity, env_bounces and env_rank light a GDM render: give a gdm");
+}
+
 }  // namespace strata

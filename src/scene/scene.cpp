@@ -124,6 +124,17 @@ Scene parseScene(const json& document, const fs::path& source) {
     if (const auto t = reader.number("shell_thickness")) gdm.shellThickness = *t;
     if (const auto f = readName(reader, "gdm_light_frame", parseGdmLightFrame)) gdm.lightFrame = *f;
 
+    EnvironmentSettings& environment = scene.environment;
+    if (const auto env = reader.string("env")) {
+        if (env->empty()) reader.fail("env", "must not be empty");
+        const fs::path asFile = resolve(baseDir, *env);
+        environment.source = fs::exists(asFile) ? asFile.string() : *env;
+    }
+    if (const auto r = reader.number("env_rotation")) environment.rotation = *r;
+    if (const auto i = reader.number("env_intensity")) environment.intensity = *i;
+    if (const auto n = reader.integer("env_bounces", 0, 8)) environment.bounces = static_cast<int>(*n);
+    if (const auto n = reader.integer("env_rank", 1, 48)) environment.rank = static_cast<int>(*n);
+
     if (const json* cameraJson = reader.object("camera")) {
         ObjectReader cameraReader(*cameraJson, "camera", file);
         Camera camera;
@@ -169,6 +180,7 @@ Scene parseScene(const json& document, const fs::path& source) {
         validate(lighting);
         validate(picture);
         validate(gdm, picture);
+        validate(environment, gdm);
     } catch (const Error& e) {
         throw Error(ErrorKind::InvalidInput, file + ": " + e.what());
     }

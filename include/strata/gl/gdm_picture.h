@@ -17,7 +17,9 @@ namespace strata::gl {
 
 // Gives `renderer` what a scene draws: the GDM that `gdm` reads (raw or its SVD), its volumes (occupancy,
 // albedo, and the signed distance when the asset has one), `mesh`'s prism shell at the scene's tiling and
-// shell thickness (height: the GDM's H), the scene's light frame and lighting. Returns the shell's options.
+// shell thickness (height: the GDM's H), the scene's light frame and lighting, and with an environment
+// (gdm.rtv and gdm.environment) the RTV, the mesh's macro transfer (bakeMacroTransfer from the top of the
+// shell) and the environment. Returns the shell's options.
 // Throws as the GdmRenderer setters.
 PrismShellOptions prepareGdmRenderer(GdmRenderer& renderer, const SceneGdm& gdm, const Mesh& mesh,
                                      const Scene& scene);

@@ -107,6 +107,21 @@ struct GdmSettings {
 };
 inline constexpr int kGdmRankRaw = -1;
 
+// Environment lighting of a GDM render (issue 19; docs/gdm.md "Global illumination"): the paper's bi-scale
+// radiance transfer (Wang et al. 2004, Sec. 3.2), a distant environment carried to each vertex by the mesh's
+// macro transfer and to the eye by the GDM's radiance transfer volume (RTV). It replaces the ambient term;
+// the point light still adds its own.
+struct EnvironmentSettings {
+    // Empty: none. Else a built-in sky (environmentList(): sky-clear, sky-overcast, sky-sunset, studio) or an
+    // equirectangular EXR (CONVENTIONS §9: world space, +z up, row 0 the zenith, column 0 azimuth 0 (+x),
+    // azimuth growing towards +y).
+    std::string source;
+    double rotation = 0.0;   // degrees the environment turns about world +z (towards +y), finite
+    double intensity = 1.0;  // its radiance's scale, finite and >= 0
+    int bounces = 1;         // the RTV's interreflections, [0, 8]
+    int rank = 4;            // the RTV's SVD terms, [1, 48] (the paper keeps 4; 48 loses nothing)
+};
+
 // Blinn-Phong with one point light (paper appendix: ambient, diffuse, specular, shininess).
 struct Lighting {
     glm::dvec3 lightPosition{2.0, -2.0, 3.0};  // world units
@@ -152,5 +167,8 @@ void validate(const PictureSettings& picture);
 // Also checks that picture.output is one of the renderer's (kReliefOutputs without a GDM, kGdmOutputs with
 // one).
 void validate(const GdmSettings& gdm, const PictureSettings& picture);
+// The environment's keys (env, env_rotation, env_intensity, env_bounces, env_rank): ranges, and that they go
+// with a GDM render (`gdm`).
+void validate(const EnvironmentSettings& environment, const GdmSettings& gdm);
 
 }  // namespace strata

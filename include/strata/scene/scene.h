@@ -30,6 +30,8 @@
 // "gdm" (an asset directory, or a built-in mesostructure name) makes the scene a GDM render (GdmSettings):
 // the mesostructure in the mesh's prism shell instead of the material; "gdm_technique", "gdm_rank" (an
 // integer or "raw") and "shell_thickness" go with it, and "output" is then shaded, uvw, shadow or mask.
+// "env" (a built-in sky or an equirectangular EXR, relative to the scene file) lights a GDM render with the
+// environment (EnvironmentSettings), with "env_rotation", "env_intensity", "env_bounces" and "env_rank".
 #pragma once
 
 #include "strata/mesh/mesh.h"
@@ -68,7 +70,8 @@ struct Scene {
     MetaPath meta = MetaPath::Baked;  // a layered material's path (a texture set or pattern has no layers)
     std::optional<Camera> camera;     // nullopt: framed automatically from the mesh bounds (frameCamera)
     ReliefSettings relief;
-    GdmSettings gdm;  // a GDM render instead of a relief one when gdm.source is set
+    GdmSettings gdm;                  // a GDM render instead of a relief one when gdm.source is set
+    EnvironmentSettings environment;  // a GDM render's environment lighting when environment.source is set
     Lighting lighting;
     PictureSettings picture;
 };
