@@ -4,9 +4,11 @@
 #include "test_support.h"
 
 #include "strata/image/image_io.h"
+#include "strata/image/srgb.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -122,6 +124,82 @@ TEST_F(CliRenderGdm, LightFrameChangesOnlyTheShadowsOfAStretchedMesh) {
     std::printf("light frame: %d of %d shadow pixels differ\n", differ, 96 * 96);
 }
 
+// A scene file for the environment tests: the weave on a sphere, the point light off (colour 0), so that the
+// environment alone lights it; `extra` adds keys.
+fs::path environmentScene(const fs::path& dir, const std::string& name, const std::string& extra) {
+    const fs::path path = dir / (name + ".json");
+    test::writeBytes(path,
+                     R"({"mesh": "sphere", "tessellation": 4, "tiling": 2, "size": [64, 48], "samples": 1,
+        "light": {"color": [0, 0, 0]}, "background": [0, 0, 0])" +
+                         extra + "}");
+    return path;
+}
+
+TEST_F(CliRenderGdm, TheEnvironmentLightsTheGdm) {
+    // A constant environment of radiance 0.25 as an EXR (CONVENTIONS §9), and the built-in sunset sky.
+    const fs::path exr = *dir / "grey.exr";
+    Image grey(16, 8, 3);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x)
+            for (int c = 0; c < 3; ++c) grey.at(x, y, c) = 0.25f;
+    writeExr(exr, grey);
+    const std::string weave = " --gdm " + quoted(*dir / "weave");
+    const auto render = [&](const std::string& name, const std::string& args, const std::string& keys = "") {
+        const fs::path out = *dir / (name + ".png");
+        const auto result =
+            runCli("render " + quoted(environmentScene(dir->path(), name, keys)) + args + " -o " + quoted(out));
+        return std::pair{result, out};
+    };
+    // Without an environment and with the light off, the ambient term alone; with one, the environment
+    // replaces it.
+    const auto [ambient, ambientPng] = render("ambient", weave);
+    SKIP_WITHOUT_GL(ambient);
+    ASSERT_EQ(ambient.exitCode, 0) << ambient.output;
+    const auto [sky, skyPng] = render("sky", weave + " --env sky-sunset");
+    ASSERT_EQ(sky.exitCode, 0) << sky.output;
+    EXPECT_NE(sky.output.find("sky-sunset (RTV rank 4, 1 bounce)"), std::string::npos) << sky.output;
+    EXPECT_GT(test::maxAbsDiff(readImage(ambientPng), readImage(skyPng)), 0.05);
+    // Radiance is linear in the environment: twice the intensity, twice the linear radiance (the PNG is
+    // sRGB, 8 bits: compared where it is neither dark nor clipped).
+    const auto [twice, twicePng] = render("twice", weave + " --env sky-sunset --env-intensity 2");
+    ASSERT_EQ(twice.exitCode, 0) << twice.output;
+    const Image one = readImage(skyPng), two = readImage(twicePng);
+    int compared = 0;
+    double worst = 0.0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const double a = srgbToLinear(double(one.at(x, y, c))),
+                             b = srgbToLinear(double(two.at(x, y, c)));
+                if (a < 0.05 || b > 0.9) continue;
+                worst = std::max(worst, std::abs(b / a - 2.0));
+                ++compared;
+            }
+    EXPECT_GT(compared, 200);
+    // 8-bit rounding of a value >= 0.05 linear (about 0.25 in sRGB) is at most 1/255 in sRGB, 2% relative.
+    EXPECT_LT(worst, 0.1);
+    // Turning the sunset sky (its sun low at one azimuth) moves the light; a whole turn does not.
+    const auto [turned, turnedPng] = render(
+        "turned", "",
+        R"(, "gdm": ")" + (*dir / "weave").string() + R"(", "env": "sky-sunset", "env_rotation": 120)");
+    ASSERT_EQ(turned.exitCode, 0) << turned.output;
+    EXPECT_GT(test::maxAbsDiff(readImage(turnedPng), one), 0.05);
+    const auto [whole, wholePng] = render("whole", weave + " --env sky-sunset --env-rotation 360");
+    ASSERT_EQ(whole.exitCode, 0) << whole.output;
+    EXPECT_LE(test::maxAbsDiff(readImage(wholePng), one), 1.0 / 255.0 + 1e-6);
+    // An EXR, on the asset without its raw GDM (the radiance transfer's visibility is baked again from its
+    // solid). The EXR is an input: never overwritten.
+    const auto [fromExr, exrPng] =
+        render("exr", " --gdm " + quoted(*dir / "noraw") + " --env " + quoted(exr) + " --env-bounces 0");
+    ASSERT_EQ(fromExr.exitCode, 0) << fromExr.output;
+    EXPECT_NE(fromExr.output.find("0 bounces"), std::string::npos) << fromExr.output;
+    const auto before = fs::file_size(exr);
+    const auto overwrite =
+        runCli("render" + weave + " --env " + quoted(exr) + " --mesh quad --size 16x16 -o " + quoted(exr));
+    EXPECT_EQ(overwrite.exitCode, 2) << overwrite.output;
+    EXPECT_EQ(fs::file_size(exr), before);
+}
+
 TEST_F(CliRenderGdm, ErrorsHaveTheirCodesAndWriteNothing) {
     const fs::path out = *dir / "error.png";
     const std::string small = " --mesh quad --size 16x16 -o " + quoted(out);
@@ -137,6 +215,13 @@ TEST_F(CliRenderGdm, ErrorsHaveTheirCodesAndWriteNothing) {
         {weave + " --material stone-bricks" + small, 1, "--material"},
         {weave + " --gdm-technique exact" + small, 1, "--gdm-technique"},
         {weave + " --gdm-light-frame sideways" + small, 1, "--gdm-light-frame"},
+        // The environment's flags: without a GDM, out of range (each names its flag).
+        {" --env sky-clear" + small, 1, "give --gdm"},
+        {weave + " --env sky-clear --env-rank 0" + small, 1, "--env-rank"},
+        {weave + " --env sky-clear --env-bounces 9" + small, 1, "--env-bounces"},
+        {weave + " --env sky-clear --env-intensity -1" + small, 1, "--env-intensity"},
+        // Invalid input (3): an environment that is neither a built-in sky nor a file.
+        {weave + " --env sky-mars" + small, 3, "sky-mars"},
         // Invalid input (3): neither an asset nor a built-in, a rank above the stored one, raw without
         // raw.f32,
         // a relief output with a GDM, a GDM setting without one, a thickness <= 0.
