@@ -3,6 +3,7 @@
 #include "strata/core/error.h"
 #include "strata/core/parallel.h"
 
+#include "mesh_reference_scene.h"
 #include "periodic_scene.h"
 #include "scene_images.h"
 
@@ -41,8 +42,7 @@ constexpr int kMaxCrossings = 256;
 // the subdivision on any input.
 constexpr double kMinSplitLength = 1e-5;
 
-// What a flat triangle of the warped scene is.
-enum class FaceKind : std::uint8_t { Solid, Top, Base, Fin };
+using FaceKind = WarpedFaceKind;
 
 double cross2(const glm::dvec2& a, const glm::dvec2& b) {
     return a.x * b.y - a.y * b.x;
@@ -195,14 +195,6 @@ bool facesOutOfPrism(const PrismMap& map, const std::vector<glm::dvec3>& polygon
     return false;
 }
 
-// The warped scene's flat triangles: world corners for Embree, and per triangle what a hit on it means.
-struct WarpedFace {
-    std::array<glm::dvec3, 3> texture;  // (u, v, z) at the corners, tile coordinates (not wrapped)
-    glm::vec3 normal;                   // outward, world, unit
-    glm::vec3 textureNormal;            // outward, texture space, unit (boundary faces: for the nudge)
-    FaceKind kind;
-};
-
 struct PrismGeometry {
     std::vector<glm::vec3> world;  // 3 per face
     std::vector<WarpedFace> faces;
@@ -228,7 +220,7 @@ void emitFace(const PrismMap& map, const glm::dvec3& a, const glm::dvec3& b, con
         n = -n;
     }
     for (const glm::dvec3& w : world) out.world.emplace_back(w);
-    out.faces.push_back({tex, glm::vec3(n / length), glm::vec3(textureNormal), kind});
+    out.faces.push_back({tex, glm::vec3(n / length), glm::vec3(textureNormal), kind, 0});
     (kind == FaceKind::Solid ? out.solid : out.boundary) += 1;
 }
 
@@ -314,23 +306,6 @@ PrismGeometry buildPrism(const PrismMap& map, const SolidTriangles& solid, const
     return out;
 }
 
-// The warped scene, ready for rays.
-struct WarpedScene {
-    const PeriodicScene* solid = nullptr;
-    SceneHandle scene;
-    std::vector<WarpedFace> faces;
-    double height = 0.0;
-};
-
-struct Crossing {
-    bool found = false;
-    double t = 0.0;
-    glm::dvec3 texture{0.0};
-    glm::dvec3 normal{0.0};
-    bool exitFace = false;   // met a solid face from inside first
-    bool fromBelow = false;  // entered the shell through a base (from inside the mesh) before its hit
-};
-
 // The faces a ray has already crossed, which Embree must not report again: the walk along a ray goes on
 // from the last crossing's distance itself, so that a face that lies at (nearly) the same distance, such as
 // the other prism's side of a seam, is met in its turn and not stepped over. An Embree context filter.
@@ -357,12 +332,11 @@ void skipCrossed(const RTCFilterFunctionNArguments* args) {
     }
 }
 
-// The first point of the ray (origin, direction), within [0, tFar), that lies in the warped solid inside
-// the shell: an entered solid face, or a boundary point entered inside the solid. `anySolidFace`: stop at a
-// solid face met either way (the shadow's blockers).
-Crossing firstHit(const WarpedScene& warped, const glm::dvec3& origin, const glm::dvec3& direction,
-                  double tFar, bool anySolidFace, bool throughBase = true) {
-    Crossing result;
+}  // namespace
+
+WarpedCrossing detail::firstWarpedHit(const WarpedScene& warped, const glm::dvec3& origin,
+                                      const glm::dvec3& direction, double tFar, const WarpedRayRule& rule) {
+    WarpedCrossing result;
     SkipContext crossed;
     rtcInitIntersectContext(&crossed.context);
     crossed.context.filter = skipCrossed;
@@ -382,23 +356,27 @@ Crossing firstHit(const WarpedScene& warped, const glm::dvec3& origin, const glm
             (1.0 - u - v) * face.texture[0] + u * face.texture[1] + v * face.texture[2];
         bool hit = false;
         if (face.kind == FaceKind::Solid) {
-            hit = entering || anySolidFace;
+            hit = entering || rule.anySolidFace;
             if (!entering) result.exitFace = true;
+        } else if (face.kind == FaceKind::Base && rule.baseBlocks) {
+            hit = true;
         } else if (entering) {
             if (face.kind == FaceKind::Base) {
                 result.fromBelow = true;
-                if (!throughBase) return result;
+                if (!rule.throughBase) return result;
             }
             glm::dvec3 inside = texture - kEntryNudge * glm::dvec3(face.textureNormal);
             inside.x -= std::floor(inside.x);
             inside.y -= std::floor(inside.y);
-            hit = insideSolid(*warped.solid, inside);
+            hit = insideSolid(warped.periodic, inside);
         }
         if (hit) {
             result.found = true;
             result.t = t;
             result.texture = texture;
             result.normal = normal;
+            result.kind = face.kind;
+            result.prism = face.prism;
             return result;
         }
         crossed.add(rayHit.hit.primID);
@@ -407,19 +385,9 @@ Crossing firstHit(const WarpedScene& warped, const glm::dvec3& origin, const glm
     return result;
 }
 
-}  // namespace
-
-GdmSceneImages renderGdmMeshReference(const SolidMesh& solid, const Mesh& mesh,
-                                      const PrismShellOptions& shell, const Camera& camera, glm::dvec3 light,
-                                      int width, int height, const GdmMeshReferenceOptions& options,
-                                      GdmMeshReferenceStats* stats) {
-    const std::string what = "GDM mesh reference of " + solid.source;
-    detail::checkGdmSceneInput(solid, camera, width, height, what);
-    if (!(options.chordTolerance > 0.0 && options.chordTolerance <= 1.0))
-        throw Error(ErrorKind::InvalidInput, what + ": chord tolerance " +
-                                                 formatNumber(options.chordTolerance) + " is outside (0, 1]");
-    if (!(std::isfinite(light.x) && std::isfinite(light.y) && std::isfinite(light.z)))
-        throw Error(ErrorKind::InvalidInput, what + ": the light position is not finite");
+WarpedScene detail::buildWarpedScene(const SolidMesh& solid, const Mesh& mesh, const PrismShellOptions& shell,
+                                     double chordTolerance, const std::string& what, EmbreeErrors& errors,
+                                     GdmMeshReferenceStats& stats) {
     PrismShellOptions shellOptions = shell;
     shellOptions.height = solid.height;
     const PrismShell prisms = buildPrismShell(mesh, shellOptions);
@@ -497,15 +465,18 @@ GdmSceneImages renderGdmMeshReference(const SolidMesh& solid, const Mesh& mesh,
     std::vector<PrismGeometry> pieces(prisms.prisms.size());
     parallelFor(std::size_t(0), prisms.prisms.size(), [&](std::size_t p) {
         if (!usable[p]) return;
-        pieces[p] = buildPrism(maps[p], triangles, cutFins[p], options.chordTolerance * T);
+        pieces[p] = buildPrism(maps[p], triangles, cutFins[p], chordTolerance * T);
     });
 
-    GdmMeshReferenceStats counts;
+    GdmMeshReferenceStats& counts = stats;
+    counts = {};
     counts.prisms = prisms.prisms.size();
     counts.rimFins = rimFins;
     counts.seamFins = seamFins;
     WarpedScene warped;
     warped.height = H;
+    warped.thickness = T;
+    warped.baseNormals.assign(prisms.prisms.size(), glm::dvec3(0.0));
     std::vector<glm::vec3> world;
     for (std::size_t p = 0; p < pieces.size(); ++p) {
         if (!usable[p]) ++counts.skippedPrisms;
@@ -513,19 +484,29 @@ GdmSceneImages renderGdmMeshReference(const SolidMesh& solid, const Mesh& mesh,
         counts.solidTriangles += pieces[p].solid;
         counts.boundaryTriangles += pieces[p].boundary;
         world.insert(world.end(), pieces[p].world.begin(), pieces[p].world.end());
+        for (WarpedFace& face : pieces[p].faces) face.prism = std::uint32_t(p);
         warped.faces.insert(warped.faces.end(), pieces[p].faces.begin(), pieces[p].faces.end());
         pieces[p] = {};
+        if (!usable[p]) continue;
+        // The base triangle's normal, turned as emitFace turns the base's (into the shell: texture +z).
+        const PrismMap& map = maps[p];
+        const glm::dvec3 b0 = map.world(glm::dvec3(map.t[0], 0.0)), b1 = map.world(glm::dvec3(map.t[1], 0.0)),
+                         b2 = map.world(glm::dvec3(map.t[2], 0.0));
+        glm::dvec3 up = glm::cross(b1 - b0, b2 - b0);
+        const glm::dvec2 centre = (map.t[0] + map.t[1] + map.t[2]) / 3.0;
+        const glm::dvec3 expected =
+            glm::inverse(glm::transpose(map.jacobian(glm::dvec3(centre, 0.0)))) * glm::dvec3(0.0, 0.0, 1.0);
+        if (glm::dot(up, expected) < 0.0) up = -up;
+        if (glm::length(up) > 0.0) warped.baseNormals[p] = glm::normalize(up);
     }
 
-    EmbreeErrors errors;
-    const PeriodicScene periodic = buildScene(solid, what, errors);
-    warped.solid = &periodic;
-    RTCDevice device = periodic.device.get();
+    warped.periodic = buildScene(solid, what, errors);
+    RTCDevice device = warped.periodic.device.get();
     warped.scene.reset(rtcNewScene(device));
     if (!warped.scene) throw Error(ErrorKind::Runtime, what + ": " + errors.first);
     rtcSetSceneFlags(warped.scene.get(), RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     rtcSetSceneBuildQuality(warped.scene.get(), RTC_BUILD_QUALITY_HIGH);
-    GeometryHandle geometry;
+    GeometryHandle& geometry = warped.geometry;
     if (!warped.faces.empty()) {
         geometry.reset(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE));
         if (!geometry) throw Error(ErrorKind::Runtime, what + ": " + errors.first);
@@ -551,7 +532,27 @@ GdmSceneImages renderGdmMeshReference(const SolidMesh& solid, const Mesh& mesh,
     rtcCommitScene(warped.scene.get());
     if (rtcGetDeviceError(device) != RTC_ERROR_NONE || !errors.first.empty())
         throw Error(ErrorKind::Runtime, what + ": " + errors.first);
-    world = {};
+    return warped;
+}
+
+GdmSceneImages renderGdmMeshReference(const SolidMesh& solid, const Mesh& mesh,
+                                      const PrismShellOptions& shell, const Camera& camera, glm::dvec3 light,
+                                      int width, int height, const GdmMeshReferenceOptions& options,
+                                      GdmMeshReferenceStats* stats) {
+    const std::string what = "GDM mesh reference of " + solid.source;
+    detail::checkGdmSceneInput(solid, camera, width, height, what);
+    if (!(options.chordTolerance > 0.0 && options.chordTolerance <= 1.0))
+        throw Error(ErrorKind::InvalidInput, what + ": chord tolerance " +
+                                                 formatNumber(options.chordTolerance) + " is outside (0, 1]");
+    if (!(std::isfinite(light.x) && std::isfinite(light.y) && std::isfinite(light.z)))
+        throw Error(ErrorKind::InvalidInput, what + ": the light position is not finite");
+    EmbreeErrors errors;
+    GdmMeshReferenceStats counts;
+    const WarpedScene warped =
+        buildWarpedScene(solid, mesh, shell, options.chordTolerance, what, errors, counts);
+    RTCDevice device = warped.periodic.device.get();
+    const double H = warped.height;
+    const double T = warped.thickness;
 
     GdmSceneImages images = detail::blankGdmImages(width, height);
     const double offset = kShadowOffsetTiles * T / H;
@@ -559,9 +560,10 @@ GdmSceneImages renderGdmMeshReference(const SolidMesh& solid, const Mesh& mesh,
     parallelFor(0, height, [&](int j) {
         for (int i = 0; i < width; ++i) {
             const glm::dvec3 direction = pixelRayDirection(camera, width, height, i + 0.5, j + 0.5);
-            const Crossing hit =
-                firstHit(warped, camera.eye, direction, std::numeric_limits<double>::infinity(), false,
-                         options.throughBase);
+            WarpedRayRule cameraRule;
+            cameraRule.throughBase = options.throughBase;
+            const WarpedCrossing hit = firstWarpedHit(warped, camera.eye, direction,
+                                                      std::numeric_limits<double>::infinity(), cameraRule);
             if (hit.exitFace) exitFaces.fetch_add(1, std::memory_order_relaxed);
             if (!hit.found) continue;
             if (hit.fromBelow) fromBelow.fetch_add(1, std::memory_order_relaxed);
@@ -570,7 +572,9 @@ GdmSceneImages renderGdmMeshReference(const SolidMesh& solid, const Mesh& mesh,
             if (glm::dot(hit.normal, light - point) > 0.0) {
                 const glm::dvec3 origin = point + offset * hit.normal;
                 const double reach = glm::length(light - origin);
-                lit = !firstHit(warped, origin, (light - origin) / reach, reach, true).found;
+                WarpedRayRule shadowRule;
+                shadowRule.anySolidFace = true;
+                lit = !firstWarpedHit(warped, origin, (light - origin) / reach, reach, shadowRule).found;
             }
             detail::writeGdmHit(images, i, j, hit.texture, H, lit);
         }

@@ -1,0 +1,172 @@
+#include "strata/gdm/gdm_mesh_path_trace.h"
+
+#include "strata/core/error.h"
+#include "strata/core/parallel.h"
+
+#include "mesh_reference_scene.h"
+#include "periodic_scene.h"
+#include "scene_images.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <string>
+
+namespace strata {
+namespace {
+
+using namespace detail;
+
+// A secondary ray starts this many tile lengths (T / H world units) off its surface along the normal: the
+// reference's shadow offset, and the flat tracer's 1e-5 tile widths.
+constexpr double kSurfaceOffsetTiles = 1e-5;
+// With macro occlusion, a vertex this close to the base (tile widths of texture z, twice the offset) whose
+// ray heads into the mesh is absorbed: its offset start may lie below the base, where the ray would not
+// cross the mesh's triangle.
+constexpr double kBaseBand = 2e-5;
+
+// The flat tracer's generator (gdm_path_trace.cpp), repeated: splitmix64 (Steele, Lea and Flood 2014), one
+// stream per (seed, pixel, sample), so that on the quad both tracers draw the same paths.
+constexpr std::uint64_t kGolden = 0x9e3779b97f4a7c15ull;
+std::uint64_t mix(std::uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+class PathRandom {
+public:
+    PathRandom(std::uint64_t seed, int i, int j, int sample) {
+        std::uint64_t h = mix(seed + kGolden);
+        h = mix(h ^ ((std::uint64_t(std::uint32_t(j)) << 32) | std::uint64_t(std::uint32_t(i))));
+        mState = mix(h ^ std::uint64_t(std::uint32_t(sample)));
+    }
+    // Uniform in [0, 1): the top 53 bits.
+    double next() {
+        mState += kGolden;
+        return double(mix(mState) >> 11) * 0x1.0p-53;
+    }
+
+private:
+    std::uint64_t mState;
+};
+
+// A direction drawn with density cos(theta) / pi around the unit normal n (Malley's method), in the
+// orthonormal basis of Duff et al. 2017: the flat tracer's.
+glm::dvec3 cosineDirection(const glm::dvec3& n, double u1, double u2) {
+    const double sign = std::copysign(1.0, n.z);
+    const double a = -1.0 / (sign + n.z);
+    const double b = n.x * n.y * a;
+    const glm::dvec3 t(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    const glm::dvec3 s(b, sign + n.y * n.y * a, -n.y);
+    const double r = std::sqrt(u1);
+    const double phi = 2.0 * std::numbers::pi * u2;
+    const glm::dvec3 d = r * std::cos(phi) * t + r * std::sin(phi) * s + std::sqrt(1.0 - u1) * n;
+    return glm::normalize(d);
+}
+
+// The albedo's texture point of an unwrapped hit position (u, v, z): (u mod 1, v mod 1, z / H in [0, 1]).
+glm::dvec3 texturePoint(const glm::dvec3& texture, double height) {
+    return {texture.x - std::floor(texture.x), texture.y - std::floor(texture.y),
+            std::clamp(texture.z / height, 0.0, 1.0)};
+}
+
+void checkOptions(const GdmMeshPathTraceOptions& options, const std::string& what) {
+    if (options.samplesPerPixel < 1 || options.samplesPerPixel > GdmPathTraceOptions::kMaxSamplesPerPixel)
+        throw Error(ErrorKind::InvalidInput,
+                    what + ": samplesPerPixel " + std::to_string(options.samplesPerPixel) +
+                        " is outside [1, " + std::to_string(GdmPathTraceOptions::kMaxSamplesPerPixel) + "]");
+    if (options.bounces < 0 || options.bounces > GdmPathTraceOptions::kMaxBounces)
+        throw Error(ErrorKind::InvalidInput, what + ": bounces " + std::to_string(options.bounces) +
+                                                 " is outside [0, " +
+                                                 std::to_string(GdmPathTraceOptions::kMaxBounces) + "]");
+    if (!(options.chordTolerance > 0.0 && options.chordTolerance <= 1.0))
+        throw Error(ErrorKind::InvalidInput,
+                    what + ": chordTolerance " + formatNumber(options.chordTolerance) + " is outside (0, 1]");
+}
+
+// One vertex of a path: where it is and what it faces.
+struct Vertex {
+    glm::dvec3 point;
+    glm::dvec3 normal;
+    double z;  // texture z, tile widths
+    std::uint32_t prism;
+};
+
+}  // namespace
+
+GdmPathTraceImages pathTraceGdmMesh(const SolidMesh& solid, const Mesh& mesh, const PrismShellOptions& shell,
+                                    const GdmAlbedo& albedo, const EnvironmentRadiance& environment,
+                                    const Camera& camera, int width, int height,
+                                    const GdmMeshPathTraceOptions& options) {
+    const std::string what = "GDM mesh path trace of " + solid.source;
+    checkGdmSceneInput(solid, camera, width, height, what);
+    if (!albedo) throw Error(ErrorKind::InvalidInput, what + ": no albedo function");
+    if (!environment) throw Error(ErrorKind::InvalidInput, what + ": no environment function");
+    checkOptions(options, what);
+
+    EmbreeErrors errors;
+    GdmMeshReferenceStats stats;
+    const WarpedScene warped =
+        buildWarpedScene(solid, mesh, shell, options.chordTolerance, what, errors, stats);
+    const double H = warped.height;
+    const double offset = kSurfaceOffsetTiles * warped.thickness / H;
+    constexpr double kFar = std::numeric_limits<double>::infinity();
+    // Camera rays: the reference's (default options), whatever the macro occlusion.
+    const WarpedRayRule cameraRule;
+    WarpedRayRule pathRule;
+    pathRule.anySolidFace = true;
+    pathRule.baseBlocks = options.macroOcclusion;
+
+    GdmPathTraceImages images{Image(width, height, 3), Image(width, height, 1)};
+    parallelFor(0, height, [&](int j) {
+        for (int i = 0; i < width; ++i) {
+            const glm::dvec3 view = pixelRayDirection(camera, width, height, i + 0.5, j + 0.5);
+            const WarpedCrossing first = firstWarpedHit(warped, camera.eye, view, kFar, cameraRule);
+            if (!first.found) continue;
+            images.mask.at(i, j) = 1.0f;
+            // A cut face on a base faces into the mesh, which is opaque and black.
+            if (options.macroOcclusion && first.kind == WarpedFaceKind::Base) continue;
+            const glm::dvec3 firstAlbedo = albedo(texturePoint(first.texture, H));
+            const Vertex start{camera.eye + first.t * view, first.normal, first.texture.z, first.prism};
+            glm::dvec3 sum(0.0);
+            for (int sample = 0; sample < options.samplesPerPixel; ++sample) {
+                PathRandom random(options.seed, i, j, sample);
+                Vertex vertex = start;
+                glm::dvec3 weight = firstAlbedo;
+                for (int bounce = 0;; ++bounce) {
+                    const double u1 = random.next();
+                    const double u2 = random.next();
+                    const glm::dvec3 direction = cosineDirection(vertex.normal, u1, u2);
+                    if (options.macroOcclusion && vertex.z <= kBaseBand &&
+                        glm::dot(direction, warped.baseNormals[vertex.prism]) <= 0.0)
+                        break;
+                    const glm::dvec3 origin = vertex.point + offset * vertex.normal;
+                    const WarpedCrossing hit = firstWarpedHit(warped, origin, direction, kFar, pathRule);
+                    if (!hit.found) {
+                        sum += weight * environment(direction);
+                        break;
+                    }
+                    if (bounce == options.bounces) break;
+                    // The mesh (macro occlusion) absorbs it; or it ran inside the solid, from a cut face.
+                    if (options.macroOcclusion && hit.kind == WarpedFaceKind::Base) break;
+                    if (hit.kind == WarpedFaceKind::Solid && glm::dot(hit.normal, direction) >= 0.0) break;
+                    vertex = {origin + hit.t * direction, hit.normal, hit.texture.z, hit.prism};
+                    weight *= albedo(texturePoint(hit.texture, H));
+                }
+            }
+            const glm::dvec3 radiance = sum / double(options.samplesPerPixel);
+            for (int c = 0; c < 3; ++c) images.radiance.at(i, j, c) = float(radiance[c]);
+        }
+    });
+    if (rtcGetDeviceError(warped.periodic.device.get()) != RTC_ERROR_NONE || !errors.first.empty())
+        throw Error(ErrorKind::Runtime, what + ": " + errors.first);
+    return images;
+}
+
+}  // namespace strata
