@@ -50,9 +50,9 @@ int main(int argc, char** argv) {
     app.add_option("--scene", options.sceneFile,
                    "Scene JSON (docs/scenes.md): mesh, camera, light and relief settings to start from")
         ->check(CLI::ExistingFile);
-    app.add_option(
-        "--mesh", options.mesh,
-        "Built-in mesh (teapot, cube, sphere, torus, cylinder, vase, patch, plane, quad) or a mesh file");
+    app.add_option("--mesh", options.mesh,
+                   "Built-in mesh (teapot, cube, sphere, torus, cylinder, vase, patch, trunk, plane, quad) "
+                   "or a mesh file");
     app.add_option("--size", size, "Window size WxH (default 1280x720)");
     app.add_option("--resolution", options.resolution,
                    "Composition size while editing, in texels (default 512; saved materials keep theirs)")

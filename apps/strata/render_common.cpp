@@ -57,9 +57,10 @@ std::string describe(const Scene& scene, double depthScale) {
 void addSceneFlags(CLI::App& command, SceneFlags& f) {
     command.add_option("scene", f.sceneFile, "Scene file (JSON, docs/scenes.md); flags override its keys")
         ->check(CLI::ExistingFile);
-    command.add_option("--mesh", f.mesh,
-                       "Built-in mesh (teapot, cube, sphere, torus, cylinder, vase, patch, plane, quad) or "
-                       "a mesh file (.obj, .gltf, .glb)");
+    command.add_option(
+        "--mesh", f.mesh,
+        "Built-in mesh (teapot, cube, sphere, torus, cylinder, vase, patch, trunk, plane, quad) or "
+        "a mesh file (.obj, .gltf, .glb)");
     command.add_option("--tessellation", f.tessellation, "Tessellation of a built-in mesh")
         ->check(CLI::Range(1, 256));
     command.add_option("--material", f.material,

@@ -284,6 +284,86 @@ Mesh makePatch(int n) {
     return mesh;
 }
 
+// The trunk (builtin_meshes.h): an axis bent in an S in x, a radius that tapers with height, flares out
+// towards the ground and has a few low lumps around; horizontal rings of vertices. All of it analytic, with
+// derivatives: P(theta, z) = axis(z) + r(theta, z) (cos theta, sin theta, 0), N = dP/dtheta x dP/dz
+// = r radial - dr/dtheta east - (...) z, so N . radial = r > 0: outward.
+constexpr double kTrunkHeight = 2.0;
+constexpr double kTrunkBend = 0.05;   // the axis: x(z) = kTrunkBend sin(pi z)
+constexpr double kTrunkTaper = 0.09;  // rho(z) = (1 + kTrunkTaper (1 - z)) / pi
+constexpr double kTrunkFlare = 0.3;   // f(z) = 1 + kTrunkFlare exp(-z / kTrunkFlareHeight)
+constexpr double kTrunkFlareHeight = 0.12;
+constexpr double kTrunkRootLobes = 0.06;  // 5 root lobes: kTrunkRootLobes exp(-z / kTrunkRootHeight)
+constexpr double kTrunkRootHeight = 0.25;
+// u = the angle times kTrunkReferenceRadius: the arc length on the circle of circumference 2 (about the
+// trunk's radius at z = 1 without lumps), u in [0, 2].
+constexpr double kTrunkCircumference = 2.0;
+constexpr double kTrunkReferenceRadius = kTrunkCircumference / kTwoPi;
+
+double trunkAxisSlope(double z) {
+    return kTrunkBend * std::numbers::pi * std::cos(std::numbers::pi * z);
+}
+
+// The lump-free radius R(z) = rho(z) f(z) and its derivative.
+glm::dvec2 trunkMeanRadius(double z) {
+    const double rho = (1.0 + kTrunkTaper * (1.0 - z)) / std::numbers::pi,
+                 drho = -kTrunkTaper / std::numbers::pi;
+    const double e = std::exp(-z / kTrunkFlareHeight);
+    const double f = 1.0 + kTrunkFlare * e, df = -kTrunkFlare / kTrunkFlareHeight * e;
+    return {rho * f, drho * f + rho * df};
+}
+
+// The lumps L(theta, z) (the radius is R(z) (1 + L)) and its derivatives along theta and z.
+glm::dvec3 trunkLumps(double theta, double z) {
+    const double a = 3.0 * theta + 1.1 * z, b = 7.0 * theta - 2.3 * z;
+    const double lobes = kTrunkRootLobes * std::exp(-z / kTrunkRootHeight);
+    const double l = 0.02 * std::cos(a) + 0.015 * std::sin(b) + lobes * std::cos(5.0 * theta);
+    const double dTheta = -0.06 * std::sin(a) + 0.105 * std::cos(b) - 5.0 * lobes * std::sin(5.0 * theta);
+    const double dz =
+        -0.022 * std::sin(a) - 0.0345 * std::cos(b) - lobes / kTrunkRootHeight * std::cos(5.0 * theta);
+    return {l, dTheta, dz};
+}
+
+// dv/dz: v measures height in the local scale of u (R(z) / kTrunkReferenceRadius per unit of u), so that the
+// lump-free trunk's uv map is conformal; the axis' lean counts as it does on average around the trunk.
+double trunkDvDz(double z) {
+    const glm::dvec2 r = trunkMeanRadius(z);
+    const double slope = trunkAxisSlope(z);
+    return kTrunkReferenceRadius * std::sqrt(1.0 + slope * slope + r.y * r.y) / r.x;
+}
+
+Mesh makeTrunk(int n) {
+    const int around = 4 * n, along = 4 * n;
+    // v at each row: Simpson's rule on 16 sub-intervals per row (the integrand is smooth: the rows of the
+    // coarsest trunk and of n = 16 at the same heights agree to float rounding, tests).
+    std::vector<double> rowV(std::size_t(along) + 1, 0.0);
+    constexpr int kSub = 16;
+    for (int j = 1; j <= along; ++j) {
+        const double z0 = kTrunkHeight * frac(j - 1, along), h = kTrunkHeight / along / kSub;
+        double sum = trunkDvDz(z0) + trunkDvDz(z0 + kSub * h);
+        for (int k = 1; k < kSub; ++k) sum += (k % 2 == 1 ? 4.0 : 2.0) * trunkDvDz(z0 + k * h);
+        rowV[std::size_t(j)] = rowV[std::size_t(j - 1)] + sum * h / 3.0;
+    }
+    Mesh mesh;
+    appendGrid(mesh, around, along, [&](int i, int j) {
+        // The seam's two columns of vertices at exactly the same positions (theta = 2 pi is evaluated at 0).
+        const double theta = kTwoPi * frac(i % around, around), z = kTrunkHeight * frac(j, along);
+        const glm::dvec2 mean = trunkMeanRadius(z);
+        const glm::dvec3 lumps = trunkLumps(theta, z);
+        const double r = mean.x * (1.0 + lumps.x), drdTheta = mean.x * lumps.y;
+        const double drdz = mean.y * (1.0 + lumps.x) + mean.x * lumps.z;
+        const glm::dvec3 radial(std::cos(theta), std::sin(theta), 0.0),
+            east(-std::sin(theta), std::cos(theta), 0.0);
+        const glm::dvec3 axis(kTrunkBend * std::sin(std::numbers::pi * z), 0.0, z);
+        const glm::dvec3 p = axis + r * radial;
+        const glm::dvec3 dpdTheta = drdTheta * radial + r * east;
+        const glm::dvec3 dpdz = glm::dvec3(trunkAxisSlope(z), 0.0, 1.0) + drdz * radial;
+        const double u = kTrunkCircumference * frac(i, around);
+        return Sample{p, glm::cross(dpdTheta, dpdz), dpdTheta, dpdz, {u, rowV[std::size_t(j)]}};
+    });
+    return mesh;
+}
+
 Mesh makePlane(int n) {
     Mesh mesh;
     appendGrid(mesh, n, n, [&](int i, int j) {
@@ -311,7 +391,7 @@ Mesh makeQuad() {
 }  // namespace
 
 std::vector<std::string> builtinMeshList() {
-    return {"teapot", "cube", "sphere", "torus", "cylinder", "vase", "patch", "plane", "quad"};
+    return {"teapot", "cube", "sphere", "torus", "cylinder", "vase", "patch", "trunk", "plane", "quad"};
 }
 
 Mesh makeBuiltinMesh(const std::string& name, const BuiltinMeshParams& params) {
@@ -336,6 +416,8 @@ Mesh makeBuiltinMesh(const std::string& name, const BuiltinMeshParams& params) {
         mesh = makeVase(n);
     } else if (name == "patch") {
         mesh = makePatch(n);
+    } else if (name == "trunk") {
+        mesh = makeTrunk(n);
     } else if (name == "plane") {
         mesh = makePlane(n);
     } else if (name == "quad") {

@@ -281,6 +281,206 @@ TEST(BuiltinMeshes, PatchIsAnOpenArcWithUvInWorldUnits) {
     }
 }
 
+// The trunk's documented axis (builtin_meshes.h): x = 0.05 sin(pi z), y = 0.
+glm::dvec3 trunkAxis(double z) {
+    return {0.05 * std::sin(std::numbers::pi * z), 0.0, z};
+}
+
+TEST(BuiltinMeshes, TrunkCountsOpenEndsAndSeam) {
+    for (const int n : {1, 4, 16}) {
+        SCOPED_TRACE(n);
+        const Mesh trunk = makeBuiltinMesh("trunk", {n});
+        // 4n segments around and 4n along: (4n + 1)^2 vertices (the seam column doubled), 2 (4n)^2
+        // triangles, none left out.
+        const std::size_t side = std::size_t(4 * n) + 1;
+        ASSERT_EQ(trunk.vertices.size(), side * side);
+        EXPECT_EQ(trunk.indices.size(), 3u * 2u * std::size_t(16 * n * n));
+        // Open at both ends (no caps): the ground rim and the top rim, 4n edges each, nothing else open.
+        EXPECT_EQ(openEdges(trunk), 2u * std::size_t(4 * n));
+        for (std::size_t j = 0; j < side; ++j) {
+            // The seam: vertex (0, j) at u = 0 and (4n, j) at u = 2, otherwise bit-identical.
+            const MeshVertex& a = trunk.vertices[j * side];
+            const MeshVertex& b = trunk.vertices[j * side + side - 1];
+            EXPECT_EQ(a.position, b.position);
+            EXPECT_EQ(a.normal, b.normal);
+            EXPECT_EQ(a.tangent, b.tangent);
+            EXPECT_EQ(a.uv.x, 0.0f);
+            EXPECT_EQ(b.uv.x, 2.0f);
+            EXPECT_EQ(a.uv.y, b.uv.y);
+        }
+    }
+}
+
+TEST(BuiltinMeshes, TrunkFrameIsOutwardAndFollowsTheSurface) {
+    const int n = 16;
+    const Mesh trunk = makeBuiltinMesh("trunk", {n});
+    const int side = 4 * n + 1;
+    const auto at = [&](int i, int j) -> const MeshVertex& {
+        return trunk.vertices[std::size_t(j * side + i)];
+    };
+    double minOutward = 1.0, maxNormalError = 0.0, maxRimNormalError = 0.0, maxTangentError = 0.0;
+    for (int j = 0; j < side; ++j) {
+        for (int i = 0; i < side; ++i) {
+            const MeshVertex& v = at(i, j);
+            const glm::dvec3 p(v.position), normal(v.normal), tangent(v.tangent);
+            EXPECT_NEAR(glm::length(normal), 1.0, 1e-6);
+            EXPECT_NEAR(glm::dot(normal, tangent), 0.0, 1e-6);
+            EXPECT_EQ(v.tangent.w, 1.0f);
+            // Outward: along the horizontal direction away from the axis at the vertex's height.
+            glm::dvec3 radial = p - trunkAxis(p.z);
+            radial.z = 0.0;
+            minOutward = std::min(minOutward, glm::dot(normal, glm::normalize(radial)));
+            // Against the surface the vertices sample: central differences on the grid (one-sided on the
+            // rims; around the seam the column next to the twin).
+            const int im = i == 0 ? side - 2 : i - 1, ip = i == side - 1 ? 1 : i + 1;
+            const int jm = std::max(j - 1, 0), jp = std::min(j + 1, side - 1);
+            const glm::dvec3 du = glm::dvec3(at(ip, j).position) - glm::dvec3(at(im, j).position);
+            const glm::dvec3 dv = glm::dvec3(at(i, jp).position) - glm::dvec3(at(i, jm).position);
+            double& normalError = j == 0 || j == side - 1 ? maxRimNormalError : maxNormalError;
+            normalError = std::max(normalError, angleBetween(normal, glm::cross(du, dv)));
+            maxTangentError =
+                std::max(maxTangentError, angleBetween(tangent, du - normal * glm::dot(normal, du)));
+        }
+    }
+    std::printf(
+        "[ measured ] trunk n=%d: min N . (horizontal direction from the axis) %.3f; vertex normal vs the "
+        "grid's central-difference normal max %.2f deg inside, %.2f deg on the rims (one-sided); tangent "
+        "vs the grid's u chord max %.2f deg\n",
+        n, minOutward, degrees(maxNormalError), degrees(maxRimNormalError), degrees(maxTangentError));
+    // N = dP/dtheta x dP/dz has N . radial = r > 0 exactly (builtin_meshes.cpp); the flare tilts N down
+    // by 42 degrees at the ground (slope -0.905), the root lobes sideways as well (measured 0.626, 51 deg).
+    EXPECT_GT(minOutward, 0.55);
+    // The analytic normal is the surface's: central differences on the 64 x 64 grid agree to second order
+    // (measured 1.10 degrees, where the root lobes curve most); on the rims the difference is one-sided, half
+    // a row off, and the profile at the ground curves by about 3 per unit length: half of a row's 0.042
+    // of arc is 3.6 degrees (measured 4.08 with the lobes). T against the chord across a vertex: measured
+    // 0.70 degrees.
+    EXPECT_LT(degrees(maxNormalError), 2.0);
+    EXPECT_LT(degrees(maxRimNormalError), 6.0);
+    EXPECT_LT(degrees(maxTangentError), 2.0);
+    // No degenerate triangles: the smallest area is a sizeable part of a cell's (2 / 64)^2 / 2 (measured
+    // 0.887).
+    double minArea = 1e9;
+    for (std::size_t t = 0; t < trunk.indices.size(); t += 3) {
+        const glm::dvec3 a(trunk.vertices[trunk.indices[t]].position);
+        const glm::dvec3 b(trunk.vertices[trunk.indices[t + 1]].position);
+        const glm::dvec3 c(trunk.vertices[trunk.indices[t + 2]].position);
+        minArea = std::min(minArea, 0.5 * glm::length(glm::cross(b - a, c - a)));
+    }
+    const double cellHalf = 0.5 * (2.0 / (4 * n)) * (2.0 / (4 * n));
+    std::printf("[ measured ] trunk n=%d: smallest triangle %.3g of a half cell\n", n, minArea / cellHalf);
+    EXPECT_GT(minArea, 0.5 * cellHalf);
+}
+
+struct Range {
+    double lo = 1e9, hi = -1e9;
+    void add(double x) {
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+    }
+};
+
+TEST(BuiltinMeshes, TrunkUvsAreInWorldUnits) {
+    const int n = 16;
+    const Mesh trunk = makeBuiltinMesh("trunk", {n});
+    const int side = 4 * n + 1;
+    const auto at = [&](int i, int j) -> const MeshVertex& {
+        return trunk.vertices[std::size_t(j * side + i)];
+    };
+    // u = 2 i / 4n in [0, 2]; v the same along each row (rows are horizontal), 0 at the ground, increasing.
+    for (int j = 0; j < side; ++j) {
+        for (int i = 0; i < side; ++i) {
+            EXPECT_FLOAT_EQ(at(i, j).uv.x, float(2.0 * i / (4 * n)));
+            EXPECT_EQ(at(i, j).uv.y, at(0, j).uv.y);
+            EXPECT_EQ(at(i, j).position.z, at(0, j).position.z);
+        }
+        if (j > 0) {
+            EXPECT_GT(at(0, j).uv.y, at(0, j - 1).uv.y);
+        }
+    }
+    EXPECT_EQ(at(0, 0).uv.y, 0.0f);
+    EXPECT_EQ(at(0, 0).position.z, 0.0f);
+    EXPECT_EQ(at(0, side - 1).position.z, 2.0f);
+    // v is a function of z alone, whatever the tessellation: the coarsest trunk's rows (z = 0, 0.5, .., 2)
+    // have the v of the same heights at n = 16 (Simpson's rule per row: float rounding, 1e-6).
+    const Mesh coarse = makeBuiltinMesh("trunk", {1});
+    for (int j = 0; j <= 4; ++j) {
+        EXPECT_NEAR(coarse.vertices[std::size_t(5 * j)].uv.y, at(0, 16 * j).uv.y, 1e-6f) << j;
+    }
+    const float top = at(0, side - 1).uv.y;
+    std::printf("[ measured ] trunk: v at the top %.4f\n", double(top));
+    EXPECT_NEAR(top, 2.007f, 1e-3f);  // documented
+    // World length per unit of uv along the grid's iso-lines: |dP/du| on the cells' u edges (chords: at 64
+    // segments around they are 0.9996 of the arc), |dP/dv| on their v edges, and their ratio per cell (the
+    // aspect a tile keeps).
+    Range su, sv, aspect, suTrunk, svTrunk, aspectTrunk, shearTrunk;
+    for (int j = 0; j + 1 < side; ++j) {
+        for (int i = 0; i + 1 < side; ++i) {
+            const MeshVertex &a = at(i, j), &b = at(i + 1, j), &c = at(i, j + 1);
+            const glm::dvec3 alongU = glm::dvec3(b.position) - glm::dvec3(a.position);
+            const glm::dvec3 alongV = glm::dvec3(c.position) - glm::dvec3(a.position);
+            const double lu = glm::length(alongU) / double(b.uv.x - a.uv.x);
+            const double lv = glm::length(alongV) / double(c.uv.y - a.uv.y);
+            su.add(lu);
+            sv.add(lv);
+            aspect.add(lu / lv);
+            if (a.position.z >= 0.5f) {
+                suTrunk.add(lu);
+                svTrunk.add(lv);
+                aspectTrunk.add(lu / lv);
+                shearTrunk.add(std::abs(degrees(angleBetween(alongU, alongV)) - 90.0));
+            }
+        }
+    }
+    std::printf(
+        "[ measured ] trunk n=%d: |dP/du| in [%.3f, %.3f], |dP/dv| in [%.3f, %.3f], |dP/du| / |dP/dv| per "
+        "cell in [%.3f, %.3f] everywhere; above z = 0.5 [%.3f, %.3f], [%.3f, %.3f] and [%.3f, %.3f], the "
+        "u and v edges within %.2f deg of square\n",
+        n, su.lo, su.hi, sv.lo, sv.hi, aspect.lo, aspect.hi, suTrunk.lo, suTrunk.hi, svTrunk.lo, svTrunk.hi,
+        aspectTrunk.lo, aspectTrunk.hi, shearTrunk.hi);
+    // Above the root flare (z >= 0.5) a unit of uv is a unit of length within 12 %: u's scale is the local
+    // radius over 1 / pi, which the taper takes from 1.045 (z = 0.5) to 0.91 (z = 2) and the lumps move by
+    // up to 3.5 % either way (measured 0.883 to 1.090); v is built to follow u's scale (measured 0.906 to
+    // 1.050), so a tile keeps its aspect within 6 % (measured 0.964 to 1.040), and the S-bend's lean (at
+    // most atan(0.05 pi) = 8.9 degrees, horizontal rows on a leaning axis) shears it by at most 10 degrees.
+    EXPECT_GT(suTrunk.lo, 0.85);
+    EXPECT_LT(suTrunk.hi, 1.12);
+    EXPECT_GT(svTrunk.lo, 0.85);
+    EXPECT_LT(svTrunk.hi, 1.12);
+    EXPECT_GT(aspectTrunk.lo, 0.94);
+    EXPECT_LT(aspectTrunk.hi, 1.06);
+    EXPECT_LT(shearTrunk.hi, 10.0);
+    // At the ground the flare widens the trunk by 1.3 (and the root lobes by up to 6 % more), and u and v
+    // stretch together: up to 1.6 (measured 1.563 and 1.575). The lobes' slopes make the aspect the worst
+    // there: within 0.9 to 1.25 (measured 0.946 to 1.199).
+    EXPECT_GT(su.lo, 0.85);
+    EXPECT_LT(su.hi, 1.6);
+    EXPECT_GT(sv.lo, 0.85);
+    EXPECT_LT(sv.hi, 1.6);
+    EXPECT_GT(aspect.lo, 0.9);
+    EXPECT_LT(aspect.hi, 1.25);
+}
+
+TEST(BuiltinMeshes, TrunkBounds) {
+    // Documented extents (builtin_meshes.h), from n = 64 (256 segments around: the vertices reach within
+    // 1e-4 of the surface's extreme); n = 16 reaches within 3e-3 of them.
+    const glm::vec3 min(-0.429f, -0.464f, 0.0f), max(0.488f, 0.458f, 2.0f);
+    for (const int n : {64, 16}) {
+        const Bounds b = meshBounds(makeBuiltinMesh("trunk", {n}));
+        std::printf("[ measured ] trunk n=%d bounds (%.4f %.4f %.4f) - (%.4f %.4f %.4f)\n", n,
+                    double(b.min.x), double(b.min.y), double(b.min.z), double(b.max.x), double(b.max.y),
+                    double(b.max.z));
+        const float tolerance = n == 64 ? 1e-3f : 3e-3f;
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_NEAR(b.min[k], min[k], tolerance) << n << " " << k;
+            EXPECT_NEAR(b.max[k], max[k], tolerance) << n << " " << k;
+        }
+        // Exactly on the ground and 2 high.
+        EXPECT_EQ(b.min.z, 0.0f);
+        EXPECT_EQ(b.max.z, 2.0f);
+    }
+}
+
 TEST(BuiltinMeshes, UnknownNameAndBadTessellationAreRefused) {
     try {
         makeBuiltinMesh("teapott");

@@ -29,6 +29,20 @@
 //   patch     an open curved patch: a cylindrical arc of radius 0.6 about the y axis over 120 degrees (x in
 //             [-0.52, 0.52], top at z = 0, its rims at z = -0.3), 1 wide in y; uv in world units, u = arc
 //             length from the -x rim (in [0, 1.257]), v = y + 0.5; a 2n x 2n grid.
+//   trunk     a tree trunk (the GDM paper's Fig. 10, bark), open at both ends (no caps), standing on z = 0,
+//             z in [0, 2]: horizontal rings around an axis with a slight S-bend in x, x(z) = 0.05 sin(pi z);
+//             radius r = R(z) (1 + L(theta, z)) at the angle theta about +z from +x, with
+//             R(z) = (1 + 0.09 (1 - z)) / pi * (1 + 0.3 exp(-z / 0.12)) (a mild taper from 0.347 to 0.290,
+//             1 / pi at z = 1, and a root flare to 0.451 at the ground) and low lumps
+//             L = 0.02 cos(3 theta + 1.1 z) + 0.015 sin(7 theta - 2.3 z) + 0.06 exp(-z / 0.25) cos(5 theta)
+//             (the last: five root lobes). x in [-0.429, 0.488], y in [-0.464, 0.458]. uv about in world
+//             units: u = theta / pi, the arc length on the circle of circumference 2 (radius 1 / pi, about
+//             the trunk's at z = 1), u in [0, 2] with the seam's vertices doubled at u = 0 and u = 2 (so a
+//             tiling T with 2T a whole number wraps without a seam); v = the integral from 0 to z of
+//             sqrt(1 + x'^2 + R'^2) / (pi R) dz: height along the trunk in the same local scale as u (one
+//             unit of u or v is pi R(z) long), so a uv square stays square (conformal but for the lumps and
+//             the lean), v in [0, 2.007]. Above z = 0.5 a uv unit is 0.88 to 1.09 long; the flare
+//             stretches u and v together, up to 1.57 at the ground. 4n segments around, 4n along.
 //   plane     the square [-1, 1]^2 in z = 0 facing +z, uv = ((x + 1) / 2, (y + 1) / 2), an n x n grid.
 //   quad      exactly the unit quad of CONVENTIONS §7: x, y in [0, 1], z = 0, uv = (x, y), T = +x, B = +y,
 //             N = +z, four vertices (0,0), (1,0), (1,1), (0,1) and two triangles {0,1,2}, {0,2,3}. Ignores
@@ -43,14 +57,15 @@
 namespace strata {
 
 struct BuiltinMeshParams {
-    // Segments per patch edge (teapot), per quarter turn (sphere, torus, cylinder, vase), per edge (cube
-    // faces, plane) or per half edge (patch). Range [1, 256]; default 16: the teapot is then 32 * 17^2 = 9248
-    // vertices and 16256 triangles, smooth in silhouette at 1280x720. The quad ignores it.
+    // Segments per patch edge (teapot), per quarter turn (sphere, torus, cylinder, vase, trunk), per edge
+    // (cube faces, plane), per half edge (patch) or per half unit of height (trunk). Range [1, 256]; default
+    // 16: the teapot is then 32 * 17^2 = 9248 vertices and 16256 triangles, smooth in silhouette at 1280x720.
+    // The quad ignores it.
     int tessellation = 16;
 };
 
 // The names makeBuiltinMesh accepts, in a fixed order: teapot, cube, sphere, torus, cylinder, vase, patch,
-// plane, quad.
+// trunk, plane, quad.
 std::vector<std::string> builtinMeshList();
 
 // Builds a built-in mesh (see the list above); Mesh::name is the name.

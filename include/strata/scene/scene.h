@@ -15,9 +15,10 @@
 // Error(Io).
 //
 // Meshes ("mesh"): a built-in name (builtinMeshList(): teapot, cube, sphere, torus, cylinder, vase, patch,
-// plane, quad) or a mesh file (.obj, .gltf, .glb). A name is a built-in unless a file of that name exists.
-// Materials
-// ("material"): in this order,
+// trunk, plane, quad) or a mesh file (.obj, .gltf, .glb). A name is a built-in unless a file of that name
+// exists.
+//
+// Materials ("material"): in this order,
 //   - an existing path: a material JSON (composed on load, docs/material.md), a texture set directory or its
 //     strata.json (docs/texture-sets.md), or a dual-depth texture's directory (strata/relief/dual_depth.h:
 //     its front layer as the depth, unless the technique is dual-depth, docs/dual-depth.md);
