@@ -23,9 +23,17 @@
 //                             surface hits of both (gdmSurfaceHitMask). albedo: grey (0.7 in both) or the
 //                             mesostructure's colours (the renderer's trilinear albedo volume against the
 //                             path tracer's exact albedo).
+//   curved/<bounces>          one run: the chain torus (gdm_torus_chain_sky.json's mesh, tiling, GDM and
+//                             technique) at 128 x 96 under the band-limited overcast sky, albedo the chain's
+//                             colours, the RTV with `bounces` interreflections, against pathTraceGdmMesh (the
+//                             exact warped chain, macro occlusion by the torus, 64 paths per pixel) with as
+//                             many: relative RMSE over the pixels both hit.
+//                             STRATA_GDM_ENV_CURVED_IMAGE=PREFIX writes PREFIX_<bounces>.png: the GL picture
+//                             and the path tracer's side by side.
 // Run: build/ci/bench/bench_gdm_environment --benchmark_counters_tabular=true
 #include "strata/environment/environment.h"
 #include "strata/gdm/gdm_asset.h"
+#include "strata/gdm/gdm_mesh_path_trace.h"
 #include "strata/gdm/gdm_path_trace.h"
 #include "strata/gdm/gdm_rtv.h"
 #include "strata/gdm/gdm_trace.h"
@@ -35,11 +43,15 @@
 #include "strata/gl/context.h"
 #include "strata/gl/gdm_picture.h"
 #include "strata/gl/gdm_renderer.h"
+#include "strata/image/image_io.h"
+#include "strata/image/srgb.h"
 #include "strata/mesh/builtin_meshes.h"
 #include "strata/scene/scene.h"
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <string>
@@ -188,6 +200,69 @@ void accuracy(benchmark::State& state, const std::string& meso, strata::GdmTechn
     state.counters["relative_rmse_percent"] = 100.0 * error;
 }
 
+void curved(benchmark::State& state, int bounces) {
+    context();
+    const Loaded& l = loaded("gdm_torus_chain_sky");
+    strata::Scene scene = l.scene;
+    scene.environment.source = "sky-overcast";
+    scene.environment.rotation = 0.0;
+    scene.environment.intensity = 1.0;
+    scene.environment.bounces = bounces;
+    scene.environment.rank = 48;
+    const strata::SceneGdm gdm = strata::loadSceneGdm(scene);
+    const strata::ShColor sky = *gdm.environment;
+    constexpr int kWidth = 128, kHeight = 96;
+    double error = 0.0, coverage = 0.0;
+    for (auto _ : state) {
+        strata::gl::GdmRenderer renderer;
+        const strata::PrismShellOptions shell = strata::gl::prepareGdmRenderer(renderer, gdm, l.mesh, scene);
+        const strata::Camera camera = *scene.camera;
+        const glm::dvec3 light = scene.lighting.lightPosition;
+        const strata::GdmSceneImages hits = renderer.render(
+            camera, light, kWidth, kHeight, strata::GdmDirectionLookup::Nearest, scene.gdm.technique);
+        const strata::Image shaded = renderer.renderShaded(
+            camera, light, kWidth, kHeight, strata::GdmDirectionLookup::Nearest, scene.gdm.technique);
+        strata::Image radiance(kWidth, kHeight, 3);
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x)
+                for (int c = 0; c < 3; ++c) radiance.at(x, y, c) = shaded.at(x, y, c);
+        const strata::Mesostructure meso = strata::makeMesostructure("chain");
+        strata::GdmMeshPathTraceOptions options;
+        options.samplesPerPixel = 64;
+        options.bounces = bounces;
+        const strata::EnvironmentRadiance environment = [&sky](const glm::dvec3& direction) {
+            return glm::max(strata::shReconstruct(sky, direction), glm::dvec3(0.0));
+        };
+        const strata::GdmPathTraceImages reference =
+            strata::pathTraceGdmMesh(*gdm.asset.solid, l.mesh, shell, strata::mesostructureLinearAlbedo(meso),
+                                     environment, camera, kWidth, kHeight, options);
+        error = strata::gdmRelativeRmse(radiance, hits.mask, reference.radiance, reference.mask);
+        if (const char* path = std::getenv("STRATA_GDM_ENV_CURVED_IMAGE")) {
+            // GL | path tracer, sRGB, side by side.
+            strata::Image both(2 * kWidth, kHeight, 3);
+            for (int y = 0; y < kHeight; ++y)
+                for (int x = 0; x < kWidth; ++x)
+                    for (int c = 0; c < 3; ++c) {
+                        both.at(x, y, c) =
+                            float(strata::linearToSrgb(std::clamp(double(radiance.at(x, y, c)), 0.0, 1.0)));
+                        both.at(x + kWidth, y, c) = float(strata::linearToSrgb(
+                            std::clamp(double(reference.radiance.at(x, y, c)), 0.0, 1.0)));
+                    }
+            strata::writePng(std::string(path) + "_" + std::to_string(bounces) + ".png", both);
+        }
+        double both = 0.0, any = 0.0;
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x) {
+                const bool a = hits.mask.at(x, y) > 0.5f, b = reference.mask.at(x, y) > 0.5f;
+                both += a && b ? 1.0 : 0.0;
+                any += a || b ? 1.0 : 0.0;
+            }
+        coverage = any > 0.0 ? both / any : 0.0;
+    }
+    state.counters["relative_rmse_percent"] = 100.0 * error;
+    state.counters["mask_iou"] = coverage;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -216,6 +291,12 @@ int main(int argc, char** argv) {
                     ->Unit(benchmark::kMillisecond)
                     ->Iterations(1)
                     ->UseRealTime();
+    for (const int bounces : {0, 1, 2})
+        benchmark::RegisterBenchmark((std::string("curved/") + std::to_string(bounces)).c_str(), curved,
+                                     bounces)
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(1)
+            ->UseRealTime();
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
