@@ -150,15 +150,16 @@ void viewAngles(const glm::dmat3& frame, const glm::dvec3& view, double& angle, 
 // The lobe table over the angle a: kGdmGlossyLobeAngles rows, linear between them.
 struct LobeTable {
     std::vector<ShVector> rows;
-    explicit LobeTable(double shininess) : rows(std::size_t(kGdmGlossyLobeAngles)) {
-        parallelFor(0, kGdmGlossyLobeAngles, [&](int i) {
-            rows[std::size_t(i)] = localLobe(shininess, i * kPi / (kGdmGlossyLobeAngles - 1));
+    LobeTable(double shininess, int angles) : rows(std::size_t(angles)) {
+        parallelFor(0, angles, [&](int i) {
+            rows[std::size_t(i)] = localLobe(shininess, angles > 1 ? i * kPi / (angles - 1) : 0.0);
         });
     }
     ShVector at(double angle) const {
-        const double f =
-            std::clamp(angle / kPi * (kGdmGlossyLobeAngles - 1), 0.0, double(kGdmGlossyLobeAngles - 1));
-        const int i = std::min(int(f), kGdmGlossyLobeAngles - 2);
+        // Linear between the rows (at least 2: the M b bake's kGdmGlossyLobeAngles).
+        const int angles = int(rows.size());
+        const double f = std::clamp(angle / kPi * (angles - 1), 0.0, double(angles - 1));
+        const int i = std::min(int(f), angles - 2);
         const double t = f - i;
         ShVector out{};
         for (int k = 0; k < kShCount; ++k)
@@ -402,22 +403,53 @@ GdmGlossyRtv bakeGdmGlossyRtv(const Gdm& gdm, const std::vector<float>& distance
     rtv.transfer.assign(std::size_t(kShCount) * voxels * views, 0.0f);
 
     const Directions directions(dims);
-    const LobeTable table(options.shininess);
+    const bool direct = options.method == GdmGlossyMethod::DirectSum;
+    // The lobe table only for G = M b (one empty row otherwise).
+    const LobeTable table(options.shininess, direct ? 1 : kGdmGlossyLobeAngles);
     std::vector<glm::dvec3> viewDirections;
     for (int t = 0; t < rtv.viewRows(); ++t)
         for (int s = 0; s < dims.nphi; ++s) viewDirections.push_back(gdmGlossyView(dims, t, s));
+    const double scale = (options.shininess + 2.0) / (2.0 * kPi);
 
     parallelFor(0, dims.nz * dims.ny, [&](int row) {
         const int j = row % dims.ny, k = row / dims.ny;
+        std::vector<std::size_t> visible;
         for (int i = 0; i < dims.nx; ++i) {
             const std::size_t v =
                 std::size_t(i) +
                 std::size_t(dims.nx) * (std::size_t(j) + std::size_t(dims.ny) * std::size_t(k));
             if (distance[v] < 0.0f) continue;
             const glm::dvec3 n = distanceNormal(dims, gdm.height, distance, i, j, k);
+            const auto store = [&](std::size_t view, const double* g) {
+                for (int q = 0; q < kShCount; ++q)
+                    rtv.transfer[(std::size_t(q) * voxels + v) * views + view] = float(g[q]);
+            };
+            if (direct) {
+                // G_k = sum over the visible direction samples of Y_k f_s max(n . w, 0) dOmega.
+                visible.clear();
+                for (std::size_t q = 0; q < dims.directionCount(); ++q)
+                    if (directions.dir[q].z > 0.0 && gdm.values[v * dims.directionCount() + q] == kGdmMiss &&
+                        glm::dot(n, directions.dir[q]) > 0.0)
+                        visible.push_back(q);
+                for (std::size_t view = 0; view < views; ++view) {
+                    const glm::dvec3& wo = viewDirections[view];
+                    const glm::dvec3 mirror = 2.0 * glm::dot(n, wo) * n - wo;
+                    ShVector g{};
+                    for (const std::size_t q : visible) {
+                        const glm::dvec3& w = directions.dir[q];
+                        const double f = lobePower(glm::dot(w, mirror), options.shininess);
+                        if (f == 0.0) continue;
+                        const double weight = scale * f * glm::dot(n, w) * directions.solidAngle[q];
+                        for (int c = 0; c < kShCount; ++c)
+                            g[std::size_t(c)] += weight * directions.basis[q][std::size_t(c)];
+                    }
+                    store(view, g.data());
+                }
+                continue;
+            }
+            // G = M b = (M R) b_n: R (the ShRotation of the normal's frame) takes b from the normal's frame,
+            // where the table holds it, to the tangent frame.
             const glm::dmat3 frame = normalFrame(n);
-            // M' = M R: R (ShRotation of the normal's frame) takes b from the normal's frame to the tangent
-            // frame, so G = M R b_local.
             const ShRotation rotation(frame);
             Matrix16 r;
             for (int c = 0; c < kShCount; ++c) {
@@ -427,39 +459,13 @@ GdmGlossyRtv bakeGdmGlossyRtv(const Gdm& gdm, const std::vector<float>& distance
                 for (int q = 0; q < kShCount; ++q) r(q, c) = column[std::size_t(q)];
             }
             const Matrix16 m = shadowedMatrix(gdm, directions, v) * r;
-            if (options.method == GdmGlossyMethod::DirectSum) {
-                std::vector<std::size_t> visible;
-                for (std::size_t n2 = 0; n2 < dims.directionCount(); ++n2)
-                    if (directions.dir[n2].z > 0.0 && gdm.values[v * dims.directionCount() + n2] == kGdmMiss)
-                        visible.push_back(n2);
-                const double scale = (options.shininess + 2.0) / (2.0 * kPi);
-                for (std::size_t view = 0; view < views; ++view) {
-                    const glm::dvec3& wo = viewDirections[view];
-                    const glm::dvec3 mirror = 2.0 * glm::dot(n, wo) * n - wo;
-                    ShVector g{};
-                    for (const std::size_t q : visible) {
-                        const glm::dvec3& w = directions.dir[q];
-                        const double cosine = glm::dot(n, w);
-                        if (cosine <= 0.0) continue;
-                        const double f = lobePower(glm::dot(w, mirror), options.shininess);
-                        if (f == 0.0) continue;
-                        const double weight = scale * f * cosine * directions.solidAngle[q];
-                        for (int c = 0; c < kShCount; ++c)
-                            g[std::size_t(c)] += weight * directions.basis[q][std::size_t(c)];
-                    }
-                    for (int q = 0; q < kShCount; ++q)
-                        rtv.transfer[(std::size_t(q) * voxels + v) * views + view] = float(g[std::size_t(q)]);
-                }
-                continue;
-            }
             for (std::size_t view = 0; view < views; ++view) {
                 double angle = 0.0, azimuth = 0.0;
                 viewAngles(frame, viewDirections[view], angle, azimuth);
                 const ShVector b = turnAboutZ(table.at(angle), azimuth);
                 const Eigen::Map<const Eigen::Matrix<double, kShCount, 1>> bv(b.data());
                 const Eigen::Matrix<double, kShCount, 1> g = m * bv;
-                for (int q = 0; q < kShCount; ++q)
-                    rtv.transfer[(std::size_t(q) * voxels + v) * views + view] = float(g(q));
+                store(view, g.data());
             }
         }
     });

@@ -13,6 +13,7 @@
 #include "strata/gdm/gdm_trace.h"
 #include "strata/gdm/mesostructure.h"
 #include "strata/gdm/mesostructure_mesh.h"
+#include "strata/scene/camera.h"
 
 #include "test_solids.h"
 
@@ -244,6 +245,40 @@ TEST(GdmRtvGlossy, PathTracerGlossyTermOnAFlatSlabIsTheDirectionalAlbedo) {
     options.specular = 1.0;
     options.shininess = -2.0;
     EXPECT_THROW(pathTraceGdm(slab, white, constant, camera, 4, 4, options), Error);
+}
+
+TEST(GdmRtvGlossy, PathTracerGlossyTermAtAnObliqueViewIsTheDirectionalAlbedo) {
+    const double height = 0.5, sky = 0.8, specular = 0.7, s = 8.0;
+    const SolidMesh slab = boxMesh({-0.25f, -0.25f, 0.0f}, {1.25f, 1.25f, float(height / 2)}, height);
+    const auto white = [](const glm::dvec3&) { return glm::dvec3(0.5); };
+    const EnvironmentRadiance constant = [sky](const glm::dvec3&) { return glm::dvec3(sky); };
+    // 50 degrees from the normal, a 2 degree field of view.
+    Camera camera;
+    camera.target = {0.5, 0.5, height / 2};
+    camera.eye =
+        camera.target + 3.0 * glm::dvec3(0.0, -std::sin(50.0 * kPi / 180), std::cos(50.0 * kPi / 180));
+    camera.fovYDegrees = 2.0;
+    constexpr int kPixels = 3;
+    GdmPathTraceOptions options;
+    options.samplesPerPixel = 4096;
+    const GdmPathTraceImages diffuse = pathTraceGdm(slab, white, constant, camera, kPixels, kPixels, options);
+    options.specular = specular;
+    options.shininess = s;
+    const GdmPathTraceImages both = pathTraceGdm(slab, white, constant, camera, kPixels, kPixels, options);
+    for (int j = 0; j < kPixels; ++j)
+        for (int i = 0; i < kPixels; ++i) {
+            ASSERT_EQ(both.mask.at(i, j), 1.0f);
+            const glm::dvec3 view = -pixelRayDirection(camera, kPixels, kPixels, i + 0.5, j + 0.5);
+            double albedo = 0.0;
+            sphereSum(360, [&](const glm::dvec3& w, double omega) {
+                albedo += lobe(s, {0.0, 0.0, 1.0}, view, w) * omega;
+            });
+            const double glossy = double(both.radiance.at(i, j, 0)) - double(diffuse.radiance.at(i, j, 0));
+            // The lobe crosses the horizon here (albedo about 0.64): per path the estimate's standard
+            // deviation is about a third of its mean, so about 0.5% for the mean of 4096 paths; measured
+            // deviations up to 0.9% (deterministic seeds), the tolerance 1.5%.
+            EXPECT_NEAR(glossy, specular * sky * albedo, 0.015 * specular * sky * albedo) << i << " " << j;
+        }
 }
 
 TEST(GdmRtvGlossy, RejectsBadInput) {
