@@ -35,7 +35,7 @@
 //   slab under a constant sky (s = 8): -5.5%, +2.9%, -4.6% at views 6, 39 and 84 degrees from the normal.
 //   GdmGlossyMethod::DirectSum computes G_k = sum over the direction samples of Y_k V f_s max(n . w, 0)
 //   dOmega_t instead (no truncation: +1.4%, +0.1%, +1.0% there, the 16 x 32 rule's error on the lobe; a
-//   lobe evaluation per visible direction and view, several times the bake's cost). On the weave both
+//   lobe evaluation per visible direction and view, 10 to 20 times the bake's cost). On the weave both
 //   measure the same error against the path tracer (the voxel grid dominates it: the lobe turns with twice
 //   the normal's error).
 // View directions: the upper half of the GDM's own direction grid, rows t < floor(Ntheta / 2) (theta centres
