@@ -72,6 +72,23 @@ glm::dvec3 cosineDirection(const glm::dvec3& n, double u1, double u2) {
     return glm::normalize(d);
 }
 
+// A direction drawn with density (s + 1) / (2 pi) (w . r)^s around the unit r (the Phong lobe), in the same
+// orthonormal basis.
+glm::dvec3 phongDirection(const glm::dvec3& r, double shininess, double u1, double u2) {
+    const double sign = std::copysign(1.0, r.z);
+    const double a = -1.0 / (sign + r.z);
+    const double b = r.x * r.y * a;
+    const glm::dvec3 t(1.0 + sign * r.x * r.x * a, sign * b, -sign * r.x);
+    const glm::dvec3 s(b, sign + r.y * r.y * a, -r.y);
+    const double cosine = std::pow(u1, 1.0 / (shininess + 1.0));
+    const double sine = std::sqrt(std::max(1.0 - cosine * cosine, 0.0));
+    const double phi = 2.0 * std::numbers::pi * u2;
+    return glm::normalize(sine * std::cos(phi) * t + sine * std::sin(phi) * s + cosine * r);
+}
+
+// The glossy term's own random stream: the seed xor this constant.
+constexpr std::uint64_t kGlossyStream = 0x676c6f7373790001ull;
+
 glm::dvec3 texturePoint(const glm::dvec3& point, double height) {
     return {point.x - std::floor(point.x), point.y - std::floor(point.y),
             std::clamp(point.z / height, 0.0, 1.0)};
@@ -86,6 +103,13 @@ void checkOptions(const GdmPathTraceOptions& options, const std::string& what) {
         throw Error(ErrorKind::InvalidInput, what + ": bounces " + std::to_string(options.bounces) +
                                                  " is outside [0, " +
                                                  std::to_string(GdmPathTraceOptions::kMaxBounces) + "]");
+    if (!(std::isfinite(options.specular) && options.specular >= 0.0))
+        throw Error(ErrorKind::InvalidInput,
+                    what + ": specular " + formatNumber(options.specular) + " is not finite and >= 0");
+    if (!(options.shininess >= 0.0 && options.shininess <= GdmPathTraceOptions::kMaxShininess))
+        throw Error(ErrorKind::InvalidInput, what + ": shininess " + formatNumber(options.shininess) +
+                                                 " is outside [0, " +
+                                                 formatNumber(GdmPathTraceOptions::kMaxShininess) + "]");
 }
 
 }  // namespace
@@ -143,7 +167,29 @@ GdmPathTraceImages pathTraceGdm(const SolidMesh& solid, const GdmAlbedo& albedo,
                     weight *= albedo(texturePoint(point, shell));
                 }
             }
-            const glm::dvec3 radiance = sum / double(options.samplesPerPixel);
+            glm::dvec3 radiance = sum / double(options.samplesPerPixel);
+            if (options.specular > 0.0) {
+                // The glossy term: the Phong lobe around the mirror of the view about the face normal.
+                const glm::dvec3 normal = first.normal, eye = -view;
+                const glm::dvec3 mirror = glm::normalize(2.0 * glm::dot(normal, eye) * normal - eye);
+                const double scale = options.specular * (options.shininess + 2.0) / (options.shininess + 1.0);
+                glm::dvec3 glossy(0.0);
+                for (int sample = 0; sample < options.samplesPerPixel; ++sample) {
+                    PathRandom random(options.seed ^ kGlossyStream, i, j, sample);
+                    const double u1 = random.next();
+                    const double u2 = random.next();
+                    const glm::dvec3 direction = phongDirection(mirror, options.shininess, u1, u2);
+                    const double cosine = glm::dot(normal, direction);
+                    if (cosine <= 0.0 || direction.z <= 0.0) continue;
+                    glm::dvec3 origin = first.point + kSurfaceOffset * normal;
+                    origin.z = std::clamp(origin.z, 0.0, shell);
+                    const float distance =
+                        distanceAlong(scene, scene.scene.get(), context, wrapped(origin, direction, 0.0),
+                                      direction, shell, 0.0, nullptr);
+                    if (distance == kGdmMiss) glossy += scale * cosine * environment(direction);
+                }
+                radiance += glossy / double(options.samplesPerPixel);
+            }
             for (int c = 0; c < 3; ++c) images.radiance.at(i, j, c) = float(radiance[c]);
             images.mask.at(i, j) = 1.0f;
         }

@@ -39,6 +39,16 @@
 // radiance; for a constant environment L and a surface that sees only sky the estimator is exactly
 // albedo L, with zero variance.
 //
+// Optional glossy term (specular > 0; the reference of the glossy RTV, gdm_rtv_glossy.h): at the first
+// hit only, a white normalised Phong lobe f_s(w, w_o) = specular (s + 2) / (2 pi) max(w . r, 0)^s, r the
+// mirror of the view direction w_o (towards the eye) about the face normal n, s = shininess, lit by the
+// environment directly with the solid's shadowing (the same visibility as above; no interreflection in the
+// glossy term). Per path one more direction is drawn from the lobe around r, density (s + 1) / (2 pi)
+// (w . r)^s, and the estimate specular (s + 2) / (s + 1) max(n . w, 0) L(w) is added where the ray reaches
+// the environment. Its numbers come from a stream of their own (the seed xor a constant), so the diffuse
+// estimate is the same bit for bit with or without the glossy term, and the glossy term is the difference
+// of the two images (up to float rounding). With specular = 0 (the default) nothing is drawn.
+//
 // Determinism: path s of pixel (i, j) draws its numbers from its own generator (splitmix64 seeded from
 // seed, i, j and s), so an image is the same bit for bit for the same inputs and seed, whatever the thread
 // count; and a path with b + 1 bounces repeats the path with b bounces and only adds to it, so a pixel's
@@ -76,9 +86,14 @@ struct GdmPathTraceOptions {
     // with the mesostructure's shadowing; 1 = plus one interreflection; ... Default 0.
     int bounces = 0;
     std::uint64_t seed = 0;  // any value; the same seed gives the same image. Default 0.
+    // The glossy term (above): its coefficient, finite and >= 0 (0: none, the default), and the Phong
+    // exponent s, finite and in [0, kMaxShininess] (default 8).
+    double specular = 0.0;
+    double shininess = 8.0;
 
     static constexpr int kMaxSamplesPerPixel = 1 << 20;
     static constexpr int kMaxBounces = 64;
+    static constexpr double kMaxShininess = 1e4;
 };
 
 struct GdmPathTraceImages {
