@@ -12,6 +12,9 @@
 //                             light turned on (white) and: environment = the scene's sky as well (the RTV
 //                             lookup and dot product in every hit's shading), local = no environment (the
 //                             ambient term). The ratio of the two is the environment's cost.
+//   turn/<scene>              GdmRenderer::setEnvironment of the scene's sky turned by 1 degree more each
+//                             time (turnEnvironment): per vertex the macro transfer times the SH, on the CPU,
+//                             and the upload; what the viewer does when the sky turns.
 //   rtv/<scene>               bakeGdmRtv with the scene's bounces and compressGdmRtv to its rank (the raw
 //                             GDM and the distance volume already baked). Counters: the rank's GPU maps
 //                             (weights, basis, inside flags) and the uncompressed RTV.
@@ -105,6 +108,19 @@ void frame(benchmark::State& state, const std::string& name, bool environment) {
     state.counters["environment_MiB"] = double(renderer.gpuMemory().environment) / kMiB;
     state.counters["gpu_MiB"] = double(renderer.gpuMemory().total()) / kMiB;
     state.SetLabel(l.gdm.description);
+}
+
+void turn(benchmark::State& state, const std::string& name) {
+    context();
+    const Loaded& l = loaded(name);
+    strata::gl::GdmRenderer renderer;
+    strata::gl::prepareGdmRenderer(renderer, l.gdm, l.mesh, l.scene);
+    double degrees = 0.0;
+    for (auto _ : state) {
+        degrees += 1.0;
+        renderer.setEnvironment(strata::turnEnvironment(l.gdm.environmentSh, degrees, 1.0));
+    }
+    state.counters["vertices"] = double(l.mesh.vertices.size());
 }
 
 void rtv(benchmark::State& state, const std::string& name) {
@@ -273,6 +289,9 @@ int main(int argc, char** argv) {
                 std::string(name), environment)
                 ->Unit(benchmark::kMillisecond)
                 ->UseRealTime();
+        benchmark::RegisterBenchmark((std::string("turn/") + name).c_str(), turn, std::string(name))
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
         benchmark::RegisterBenchmark((std::string("rtv/") + name).c_str(), rtv, std::string(name))
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
