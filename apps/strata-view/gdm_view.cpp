@@ -60,8 +60,14 @@ Bounds gdmFramingBounds(const Mesh& mesh, double thickness) {
 GdmDescription describeGdm(const SceneGdm& gdm) {
     const GdmAsset& asset = gdm.asset;
     GdmDescription out;
-    // loadSceneGdm's description ends with the rank it picked; the panel shows the current one itself.
-    out.source = gdm.description.substr(0, gdm.description.rfind(", "));
+    // loadSceneGdm's description ends with the rank it picked (and then, with an environment, the
+    // environment and its RTV's rank and bounces); the panel shows each of those itself.
+    std::string description = gdm.description;
+    if (hasEnvironment(gdm)) {
+        const std::size_t environment = description.rfind(", " + gdm.environmentName + " (RTV");
+        if (environment != std::string::npos) description.resize(environment);
+    }
+    out.source = description.substr(0, description.rfind(", "));
     const GdmDims& d = asset.svd.dims;
     char dims[160];
     std::snprintf(dims, sizeof(dims), "%d x %d x %d voxels, %d x %d directions", d.nx, d.ny, d.nz, d.ntheta,

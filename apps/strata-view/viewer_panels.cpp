@@ -307,9 +307,12 @@ void Viewer::environmentControls() {
                           mScene.environment.intensity);
     // The RTV was baked when the GDM was loaded: its bounces and rank need a bake (--env-bounces,
     // --env-rank).
-    ImGui::TextColored(kDimColor, "RTV: %d bounce%s, rank %d (set when loading: --env-bounces, --env-rank)",
-                       mScene.environment.bounces, mScene.environment.bounces == 1 ? "" : "s",
-                       mGdmDescription.rtvRank);
+    ImGui::TextColored(kDimColor, "RTV: %d bounce%s, rank %d (read-only)", mScene.environment.bounces,
+                       mScene.environment.bounces == 1 ? "" : "s", mGdmDescription.rtvRank);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "Baked into the radiance transfer volume when the GDM was loaded: changing them needs a bake.\n"
+            "Start the viewer again with --env-bounces / --env-rank (or the scene's env_bounces, env_rank).");
 }
 
 void Viewer::gdmPanel() {

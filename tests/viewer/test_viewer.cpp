@@ -485,6 +485,7 @@ std::shared_ptr<const SceneGdm> tinySunsetWeave() {
         out->environmentName = sky.name();
         out->environmentSh = sky.sh();
         out->environment = turnEnvironment(sky.sh(), 0.0, 1.0);
+        out->description = "tiny weave, rank 4, sky-sunset (RTV rank 4, 1 bounce)";  // loadSceneGdm's form
         return out;
     }();
     return gdm;
@@ -625,6 +626,13 @@ TEST(ViewerGdm, TurningTheEnvironmentUploadsItAloneAndAShellChangeBakesTheMacroT
     SKIP_WITHOUT_GL();
     const std::shared_ptr<const SceneGdm> gdm = tinySunsetWeave();
     ASSERT_TRUE(hasEnvironment(*gdm));
+    // The GDM panel's lines: the source without the rank and the environment, which it shows itself.
+    const GdmDescription description = describeGdm(*gdm);
+    EXPECT_EQ(description.source, "tiny weave");
+    EXPECT_EQ(description.environment, "sky-sunset");
+    EXPECT_EQ(description.rtvRank, 4);
+    EXPECT_GT(description.rtvMiB, 0.0);
+    EXPECT_EQ(describeGdm(*tinyWeave()).environment, "");
     const auto sphere = std::make_shared<const Mesh>(makeBuiltinMesh("sphere"));
     GdmView view(gdm);
     view.setMesh(sphere, 1);
