@@ -60,8 +60,14 @@ Bounds gdmFramingBounds(const Mesh& mesh, double thickness) {
 GdmDescription describeGdm(const SceneGdm& gdm) {
     const GdmAsset& asset = gdm.asset;
     GdmDescription out;
-    // loadSceneGdm's description ends with the rank it picked; the panel shows the current one itself.
-    out.source = gdm.description.substr(0, gdm.description.rfind(", "));
+    // loadSceneGdm's description ends with the rank it picked (and then, with an environment, the
+    // environment and its RTV's rank and bounces); the panel shows each of those itself.
+    std::string description = gdm.description;
+    if (hasEnvironment(gdm)) {
+        const std::size_t environment = description.rfind(", " + gdm.environmentName + " (RTV");
+        if (environment != std::string::npos) description.resize(environment);
+    }
+    out.source = description.substr(0, description.rfind(", "));
     const GdmDims& d = asset.svd.dims;
     char dims[160];
     std::snprintf(dims, sizeof(dims), "%d x %d x %d voxels, %d x %d directions", d.nx, d.ny, d.nz, d.ntheta,
@@ -73,7 +79,16 @@ GdmDescription describeGdm(const SceneGdm& gdm) {
     out.svdMiB = mebibytes(asset.svd.mapBytes());
     out.rawMiB = asset.raw ? mebibytes(asset.raw->values.size() * sizeof(float)) : 0.0;
     out.volumeMiB = mebibytes(asset.occupancy.size() + asset.albedo.size());
+    if (hasEnvironment(gdm)) {
+        out.environment = gdm.environmentName;
+        out.rtvRank = gdm.rtv->rank;
+        out.rtvMiB = mebibytes((gdm.rtv->weights.size() + gdm.rtv->basis.size()) * sizeof(float));
+    }
     return out;
+}
+
+bool hasEnvironment(const SceneGdm& gdm) {
+    return gdm.rtv.has_value() && gdm.environment.has_value();
 }
 
 // --- GdmView --------------------------------------------------------------------------------------------
@@ -94,10 +109,14 @@ Image GdmView::render(const GdmFrame& frame) {
         throw Error(ErrorKind::InvalidInput,
                     "GDM view: the frame's mesh " + std::to_string(frame.mesh) + " was not set (setMesh)");
     try {
+        const bool environment = hasEnvironment(*mGdm);
         const int rank = settings.rank == 0 ? asset.svd.rank : settings.rank;
         if (mUploadedRank != rank) {
             mUploadedRank.reset();
-            mUploadedShell.reset();  // setGdm forgets the shell and the volumes
+            // setGdm forgets the shell, the volumes and the RTV (and with the shell the macro transfer and
+            // the environment).
+            mUploadedShell.reset();
+            mUploadedRtv = false;
             if (rank == kGdmRankRaw) {
                 if (!asset.raw)
                     throw Error(ErrorKind::InvalidInput,
@@ -115,12 +134,49 @@ Image GdmView::render(const GdmFrame& frame) {
         const auto shell = std::make_tuple(mMeshId, settings.tiling, settings.shellThickness);
         if (mUploadedShell != shell) {
             mUploadedShell.reset();
+            // setMesh forgets the macro transfer and the environment.
+            mUploadedMacroTransfer = false;
+            mUploadedEnvironment.reset();
             const PrismShellOptions options = shellOptions(*mGdm, settings);
             mRenderer.setMesh(*mMesh, options);
             mRenderer.setVolumes(asset.occupancy, asset.albedo);
             if (!asset.distance.empty()) mRenderer.setDistance(asset.distance);
             ++mShellBuilds;
             mUploadedShell = shell;
+            if (environment) {
+                // The macro transfer gathers the lighting at the top of the shell: it depends on the mesh
+                // and T alone (prepareGdmRenderer's bake), so a tiling that leaves T as it was keeps it.
+                const double thickness = buildPrismShell(*mMesh, options).thickness;
+                const auto key = std::make_pair(mMeshId, thickness);
+                if (mMacroTransferKey != key) {
+                    mMacroTransferKey.reset();
+                    MacroTransferOptions macro;
+                    macro.shellThickness = thickness;
+                    mMacroTransfer = bakeMacroTransfer(*mMesh, macro);
+                    ++mMacroTransferBakes;
+                    mMacroTransferKey = key;
+                }
+            }
+        }
+        if (environment) {
+            if (!mUploadedRtv) {
+                mRenderer.setRtv(*mGdm->rtv);
+                ++mRtvUploads;
+                mUploadedRtv = true;
+            }
+            if (!mUploadedMacroTransfer) {
+                mRenderer.setMacroTransfer(mMacroTransfer);
+                ++mMacroTransferUploads;
+                mUploadedMacroTransfer = true;
+                mUploadedEnvironment.reset();  // setMacroTransfer forgets the environment
+            }
+            const auto turn = std::make_pair(settings.environmentRotation, settings.environmentIntensity);
+            if (mUploadedEnvironment != turn) {
+                mUploadedEnvironment.reset();
+                mRenderer.setEnvironment(turnEnvironment(mGdm->environmentSh, turn.first, turn.second));
+                ++mEnvironmentUploads;
+                mUploadedEnvironment = turn;
+            }
         }
         mRenderer.setLightFrame(settings.lightFrame);
         mRenderer.setLighting(frame.lighting);
@@ -132,6 +188,9 @@ Image GdmView::render(const GdmFrame& frame) {
         // What the renderer holds is unknown after a failure part way: upload everything next time.
         mUploadedRank.reset();
         mUploadedShell.reset();
+        mUploadedRtv = false;
+        mUploadedMacroTransfer = false;
+        mUploadedEnvironment.reset();
         throw;
     }
 }

@@ -7,13 +7,16 @@
 // are drawn on a worker thread with its own GL context (GdmWorker) while the window keeps drawing the last
 // one; a picture is drawn only when what it depends on (GdmFrame) changed.
 //
-//   GdmView    the renderer with the GDM, the mesh's shell and the volumes uploaded; render(frame) applies
-//              what changed (a rank uploads the truncated SVD, a tiling or a thickness rebuilds the shell)
-//              and draws. No window, no thread: tests drive it on a headless context.
+//   GdmView    the renderer with the GDM, the mesh's shell and the volumes uploaded (and, with an
+//              environment, the RTV, the mesh's macro transfer and the turned environment); render(frame)
+//              applies what changed (a rank uploads the truncated SVD, a tiling or a thickness rebuilds the
+//              shell, a rotation or an intensity only turns the environment) and draws. No window, no
+//              thread: tests drive it on a headless context.
 //   GdmWorker  a GdmView on a thread of its own, fed the latest frame; the window's thread takes the
 //              pictures.
 #pragma once
 
+#include "strata/gdm/macro_transfer.h"
 #include "strata/gdm/prism_shell.h"
 #include "strata/gdm/scene_gdm.h"
 #include "strata/gl/gdm_renderer.h"
@@ -32,6 +35,7 @@
 #include <string>
 #include <thread>
 #include <tuple>
+#include <utility>
 
 namespace strata::view {
 
@@ -46,6 +50,10 @@ struct GdmViewSettings {
     double tiling = 1.0;  // tiles per unit of mesh uv, > 0
     GdmLightFrame lightFrame =
         GdmLightFrame::Tangent;  // the shadow lookup's light direction in texture space
+    // The environment's turn about world +z (degrees, towards +y) and its radiance's scale, as the scene's
+    // env_rotation and env_intensity (EnvironmentSettings): live, no re-bake. Unused without an environment.
+    double environmentRotation = 0.0;
+    double environmentIntensity = 1.0;
 
     bool operator==(const GdmViewSettings&) const = default;
 };
@@ -85,8 +93,15 @@ struct GdmDescription {
     double svdMiB = 0.0;     // the stored SVD's maps (W and E, float)
     double rawMiB = 0.0;     // the raw GDM (0 without one)
     double volumeMiB = 0.0;  // occupancy and albedo volumes
+    // The environment (SceneGdm::environmentName, "" without one) and its RTV's SVD terms and maps (W and E).
+    std::string environment;
+    int rtvRank = 0;
+    double rtvMiB = 0.0;
 };
 GdmDescription describeGdm(const SceneGdm& gdm);
+
+// Whether `gdm` is lit by an environment (loadSceneGdm baked its RTV and opened the environment).
+bool hasEnvironment(const SceneGdm& gdm);
 
 // Needs a current OpenGL 4.5 core context on every call, and when destroyed (it owns a gl::GdmRenderer).
 class GdmView {
@@ -102,19 +117,31 @@ public:
     // at the next render().
     void setMesh(std::shared_ptr<const Mesh> mesh, std::uint64_t id);
 
-    // The picture of `frame` (gl::renderGdmPicture: sRGB, 3 channels, width x height). Uploads what changed
-    // since the last call: the GDM for a new rank (the truncated SVD, or the raw GDM), with the shell and
-    // the volumes after it (GdmRenderer::setGdm forgets them); the shell alone for a new mesh, tiling or
-    // thickness. A technique, camera, light or size changes nothing but the picture. Throws
+    // The picture of `frame` (gl::renderGdmPicture: sRGB, 3 channels, width x height), as `strata render
+    // --gdm` draws it (gl::prepareGdmRenderer). Uploads what changed since the last call: the GDM for a new
+    // rank (the truncated SVD, or the raw GDM), with the shell and the volumes after it (GdmRenderer::setGdm
+    // forgets them); the shell alone for a new mesh, tiling or thickness. With an environment
+    // (hasEnvironment): a new rank uploads the RTV again (setGdm forgets it); a new shell sets the macro
+    // transfer and the environment again (setMesh forgets them), the macro transfer baked again only for a
+    // new mesh or a new thickness T (bakeMacroTransfer from the top of the shell; a tiling that leaves T as
+    // it was reuses the last bake); a new rotation or intensity sets the environment alone
+    // (turnEnvironment of SceneGdm::environmentSh: per-vertex products on the CPU and one buffer upload).
+    // A technique, camera, light or size changes nothing but the picture. Throws
     // Error(InvalidInput) for a rank the asset lacks (above the stored one, raw without a raw GDM) or a
     // frame's mesh that was not set, and as buildPrismShell and renderGdmPicture; after a throw the next
     // call uploads everything again.
     Image render(const GdmFrame& frame);
 
-    // Counters, for tests and the panel: GDM uploads (setGdm), shell builds (setMesh), pictures drawn.
+    // Counters, for tests and the panel: GDM uploads (setGdm), shell builds (setMesh), pictures drawn;
+    // with an environment, RTV uploads (setRtv), macro transfer bakes (bakeMacroTransfer) and uploads
+    // (setMacroTransfer), environment uploads (setEnvironment).
     int gdmUploads() const { return mGdmUploads; }
     int shellBuilds() const { return mShellBuilds; }
     int renders() const { return mRenders; }
+    int rtvUploads() const { return mRtvUploads; }
+    int macroTransferBakes() const { return mMacroTransferBakes; }
+    int macroTransferUploads() const { return mMacroTransferUploads; }
+    int environmentUploads() const { return mEnvironmentUploads; }
 
 private:
     std::shared_ptr<const SceneGdm> mGdm;
@@ -124,9 +151,20 @@ private:
     // What the renderer holds: nullopt until uploaded (and after a failure).
     std::optional<int> mUploadedRank;
     std::optional<std::tuple<std::uint64_t, double, std::optional<double>>> mUploadedShell;
+    bool mUploadedRtv = false;
+    bool mUploadedMacroTransfer = false;
+    std::optional<std::pair<double, double>> mUploadedEnvironment;  // rotation, intensity
+    // The last macro transfer baked, for the mesh and T it was baked for (kept across shell rebuilds that
+    // leave both as they were).
+    MacroTransfer mMacroTransfer;
+    std::optional<std::pair<std::uint64_t, double>> mMacroTransferKey;
     int mGdmUploads = 0;
     int mShellBuilds = 0;
     int mRenders = 0;
+    int mRtvUploads = 0;
+    int mMacroTransferBakes = 0;
+    int mMacroTransferUploads = 0;
+    int mEnvironmentUploads = 0;
 };
 
 // A finished picture (or why there is none).

@@ -36,11 +36,19 @@ struct ViewerOptions {
     std::string gdmLightFrame;             // "tangent" | "jacobian"; "" = the scene's (tangent)
     std::optional<double> shellThickness;  // T, world units (> 0); unset = the scene's (H x tile length)
     std::optional<double> tiling;          // tiles per unit of mesh uv (> 0); unset = the scene's
+    // The GDM's environment lighting (as `strata render --env`, EnvironmentSettings): a built-in sky or an
+    // equirectangular EXR; "" = the scene's "env" (none: the ambient term). Unset numbers: the scene's.
+    std::string env;
+    std::optional<double> envRotation;   // degrees about +z, finite; the panel turns it live
+    std::optional<double> envIntensity;  // >= 0; the panel scales it live
+    std::optional<int> envBounces;       // [0, 8]: the RTV's bake
+    std::optional<int> envRank;          // [1, 48]: the RTV's SVD terms
 };
 
 // Runs the viewer until its window is closed (or, with a screenshot, until it is written).
-// Throws Error: Io or InvalidInput for the material, GDM, mesh or scene (before any window opens), Usage for
-// a GDM with a material or --meta, or GDM settings without a GDM, Unsupported
+// Throws Error: Io or InvalidInput for the material, GDM, environment, mesh or scene (before any window
+// opens), Usage for a GDM with a material or --meta, GDM or environment settings without a GDM, or an
+// environment setting out of range (naming the flag), Unsupported
 // when there is no display or no OpenGL 4.5 core context (with a hint to use xvfb-run), Io when the
 // screenshot cannot be written, Runtime for a GL failure.
 void runViewer(const ViewerOptions& options);

@@ -130,6 +130,7 @@ private:
     void materialPanel();
     void materialSaveControls();
     void gdmControls();
+    void environmentControls();
     void gdmPanel();
     void layerControls(int index, int& removeIndex, int& moveFrom, int& moveTo);
     void addLayerControls();

@@ -1,8 +1,9 @@
 // The viewer's Dear ImGui panels: Scene (mesh, technique, depth scale, AO, light, camera), Material (the
 // meta-relief layers), Save, and the frame-time overlay; in GDM mode the Scene panel's GDM section
-// (technique, rank, shell thickness, tiling, samples) and the GDM panel (what is loaded) instead of the
-// relief and material ones. Panels only edit the viewer's state; the frame loop (viewer.cpp) turns that
-// state into a render request and a bake request (or a GDM frame) every frame.
+// (technique, rank, shell thickness, tiling, the environment's rotation and intensity, samples) and the GDM
+// panel (what is loaded) instead of the relief and material ones. Panels only edit the viewer's state; the
+// frame loop (viewer.cpp) turns that state into a render request and a bake request (or a GDM frame) every
+// frame.
 #include "viewer_app.h"
 
 #include "strata/core/error.h"
@@ -260,6 +261,7 @@ void Viewer::gdmControls() {
         ImGui::SetTooltip("back to H x tile length = %.3g x %.4f = %.4f", mGdm->asset.svd.height,
                           mGdmShell.tileLength, defaultThickness);
     sliderDouble("tiling", gdm.tiling, 0.25, 32.0, "%.2f", true);
+    if (hasEnvironment(*mGdm)) environmentControls();
 
     static const int kSamples[] = {1, 4, 9, 16};
     int samples = 0;
@@ -282,6 +284,35 @@ void Viewer::gdmControls() {
         ImGui::SetTooltip(
             "While the view or a setting changes, draw smaller pictures (one sample per pixel):\n"
             "a GDM picture is drawn offscreen and read back, seconds per frame on llvmpipe.");
+}
+
+void Viewer::environmentControls() {
+    // Live: a rotation or an intensity sets the turned environment alone (GdmView::render), no re-bake.
+    section("environment");
+    ImGui::TextUnformatted(mGdmDescription.environment.c_str());
+    GdmViewSettings& gdm = mGdmSettings;
+    sliderDouble("rotation", gdm.environmentRotation, -180.0, 180.0, "%.1f deg");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "Degrees the environment turns about +z (towards +y), as strata render --env-rotation");
+    sliderDouble("intensity", gdm.environmentIntensity, 0.0, 4.0, "%.2f");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Its radiance's scale, as strata render --env-intensity");
+    ImGui::SameLine();
+    if (ImGui::SmallButton("E0")) {
+        gdm.environmentRotation = mScene.environment.rotation;
+        gdm.environmentIntensity = mScene.environment.intensity;
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("back to the scene's rotation %.1f and intensity %.2f", mScene.environment.rotation,
+                          mScene.environment.intensity);
+    // The RTV was baked when the GDM was loaded: its bounces and rank need a bake (--env-bounces,
+    // --env-rank).
+    ImGui::TextColored(kDimColor, "RTV: %d bounce%s, rank %d (read-only)", mScene.environment.bounces,
+                       mScene.environment.bounces == 1 ? "" : "s", mGdmDescription.rtvRank);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "Baked into the radiance transfer volume when the GDM was loaded: changing them needs a bake.\n"
+            "Start the viewer again with --env-bounces / --env-rank (or the scene's env_bounces, env_rank).");
 }
 
 void Viewer::gdmPanel() {
@@ -308,6 +339,14 @@ void Viewer::gdmPanel() {
     }
     if (d.hasRaw && rank != kGdmRankRaw) ImGui::TextColored(kDimColor, "raw GDM: %.1f MiB", d.rawMiB);
     ImGui::TextColored(kDimColor, "volumes (occupancy, albedo): %.2f MiB", d.volumeMiB);
+    if (!d.environment.empty()) {
+        section("environment");
+        ImGui::TextUnformatted(d.environment.c_str());
+        ImGui::TextColored(kDimColor, "RTV rank %d, %d bounce%s: %.2f MiB", d.rtvRank,
+                           mScene.environment.bounces, mScene.environment.bounces == 1 ? "" : "s", d.rtvMiB);
+        ImGui::TextColored(kDimColor, "turned %.1f deg, intensity %.2f", mGdmSettings.environmentRotation,
+                           mGdmSettings.environmentIntensity);
+    }
     section("shell");
     ImGui::Text("T = %.4f world units, %zu prisms", mGdmShell.thickness, mGdmShell.prisms.size());
     ImGui::TextColored(kDimColor, "tile length %.4f at tiling %.2f", mGdmShell.tileLength,

@@ -1,7 +1,7 @@
 // strata-view: the parts without a window (orbit camera, the edited material and its JSON, the cached bake
-// stages against the library's own composition, the GDM view and its worker), and the viewer end to end:
-// `--screenshot` under xvfb-run against `strata render` of the same scene (relief and GDM), and the
-// documented exit codes.
+// stages against the library's own composition, the GDM view (with and without an environment) and its
+// worker), and the viewer end to end: `--screenshot` under xvfb-run against `strata render` of the same
+// scene (relief, GDM, GDM with an environment), and the documented exit codes.
 //
 // The end-to-end tests need the built viewer (STRATA_BUILD_VIEWER) and, for the window, xvfb-run
 // (scripts/install-deps.sh installs it); without them they skip.
@@ -15,7 +15,11 @@
 #include "orbit_camera.h"
 
 #include "strata/core/error.h"
+#include "strata/environment/environment.h"
 #include "strata/gdm/gdm_bake.h"
+#include "strata/gdm/gdm_distance.h"
+#include "strata/gdm/gdm_path_trace.h"
+#include "strata/gdm/gdm_rtv.h"
 #include "strata/gdm/gdm_svd.h"
 #include "strata/gdm/mesostructure.h"
 #include "strata/gdm/mesostructure_mesh.h"
@@ -466,6 +470,27 @@ std::shared_ptr<const SceneGdm> tinyWeave() {
     return gdm;
 }
 
+// tinyWeave lit by the sunset sky (its sun low at one azimuth), as loadSceneGdm lights a scene with "env":
+// the RTV (1 bounce, rank 4) baked from the raw GDM, the solid's signed distance and the albedo volume.
+std::shared_ptr<const SceneGdm> tinySunsetWeave() {
+    static const std::shared_ptr<const SceneGdm> gdm = [] {
+        auto out = std::make_shared<SceneGdm>(*tinyWeave());
+        const GdmDims& dims = out->asset.svd.dims;
+        const std::vector<float> distance =
+            bakeGdmDistance(meshMesostructure(makeMesostructure("weave"), 16), dims);
+        const GdmRtv rtv = bakeGdmRtv(*out->asset.raw, distance,
+                                      gdmVolumeAlbedo(out->asset.albedo, dims.nx, dims.ny, dims.nz));
+        out->rtv = compressGdmRtv(rtv, 4);
+        const Environment sky = openEnvironment("sky-sunset");
+        out->environmentName = sky.name();
+        out->environmentSh = sky.sh();
+        out->environment = turnEnvironment(sky.sh(), 0.0, 1.0);
+        out->description = "tiny weave, rank 4, sky-sunset (RTV rank 4, 1 bounce)";  // loadSceneGdm's form
+        return out;
+    }();
+    return gdm;
+}
+
 // A 64x48 frame of the sphere, framed as `strata render --gdm` frames it, 1 sample.
 GdmFrame sphereFrame(const SceneGdm& gdm, const Mesh& sphere, const GdmViewSettings& settings) {
     GdmFrame frame;
@@ -481,10 +506,14 @@ GdmFrame sphereFrame(const SceneGdm& gdm, const Mesh& sphere, const GdmViewSetti
 
 // What `strata render --gdm` draws for the frame: a fresh renderer with the GDM of that rank, the shell and
 // the volumes (render_gdm.cpp's steps).
+// With an environment, turned and scaled as the frame's settings say (loadSceneGdm's turnEnvironment).
 Image freshPicture(const SceneGdm& gdm, const Mesh& mesh, const GdmFrame& frame, const GdmSvd& svd) {
     SceneGdm drawn = gdm;  // a tiny asset: the copy is cheap
     drawn.raw = false;
     drawn.svd = svd;
+    if (hasEnvironment(gdm))
+        drawn.environment = turnEnvironment(gdm.environmentSh, frame.settings.environmentRotation,
+                                            frame.settings.environmentIntensity);
     Scene scene;
     scene.relief.tiling = frame.settings.tiling;
     scene.gdm.shellThickness = frame.settings.shellThickness;
@@ -586,7 +615,122 @@ TEST(ViewerGdm, EachChangeUploadsOnlyWhatItChangesAndDrawsStrataRendersPicture) 
     }
     EXPECT_EQ(test::maxAbsDiff(view.render(frame), first), 0.0);
     EXPECT_EQ(view.gdmUploads(), 4);
+    // Without an environment: no RTV, no macro transfer, no environment (the ambient term).
+    EXPECT_EQ(view.rtvUploads(), 0);
+    EXPECT_EQ(view.macroTransferBakes(), 0);
+    EXPECT_EQ(view.environmentUploads(), 0);
     EXPECT_NO_THROW(gl::checkGl("the GDM view test"));
+}
+
+TEST(ViewerGdm, TurningTheEnvironmentUploadsItAloneAndAShellChangeBakesTheMacroTransferAgain) {
+    SKIP_WITHOUT_GL();
+    const std::shared_ptr<const SceneGdm> gdm = tinySunsetWeave();
+    ASSERT_TRUE(hasEnvironment(*gdm));
+    // The GDM panel's lines: the source without the rank and the environment, which it shows itself.
+    const GdmDescription description = describeGdm(*gdm);
+    EXPECT_EQ(description.source, "tiny weave");
+    EXPECT_EQ(description.environment, "sky-sunset");
+    EXPECT_EQ(description.rtvRank, 4);
+    EXPECT_GT(description.rtvMiB, 0.0);
+    EXPECT_EQ(describeGdm(*tinyWeave()).environment, "");
+    const auto sphere = std::make_shared<const Mesh>(makeBuiltinMesh("sphere"));
+    GdmView view(gdm);
+    view.setMesh(sphere, 1);
+    GdmViewSettings settings;
+    settings.rank = 4;
+    GdmFrame frame = sphereFrame(*gdm, *sphere, settings);
+    // The environment alone lights it (it replaces the ambient term; the point light is off).
+    frame.lighting.lightColor = glm::dvec3(0.0);
+    const auto expectCounts = [&](int gdmUploads, int shellBuilds, int rtvUploads, int bakes,
+                                  int transferUploads, int environmentUploads) {
+        EXPECT_EQ(view.gdmUploads(), gdmUploads);
+        EXPECT_EQ(view.shellBuilds(), shellBuilds);
+        EXPECT_EQ(view.rtvUploads(), rtvUploads);
+        EXPECT_EQ(view.macroTransferBakes(), bakes);
+        EXPECT_EQ(view.macroTransferUploads(), transferUploads);
+        EXPECT_EQ(view.environmentUploads(), environmentUploads);
+    };
+
+    // The first picture uploads everything, and is `strata render --gdm --env`'s (prepareGdmRenderer).
+    const Image first = view.render(frame);
+    expectCounts(1, 1, 1, 1, 1, 1);
+    EXPECT_EQ(test::maxAbsDiff(first, freshPicture(*gdm, *sphere, frame, gdm->asset.svd)), 0.0);
+
+    // The camera: nothing uploaded.
+    GdmFrame moved = frame;
+    moved.camera.eye.x += 0.3;
+    view.render(moved);
+    expectCounts(1, 1, 1, 1, 1, 1);
+
+    // The rotation: the environment alone. The sunset's sun moves round the sphere: another picture
+    // (measured: 9.9 % of the values more than 2/255 apart; 3 % as in the test above), strata render's
+    // with env_rotation 120.
+    GdmFrame turned = frame;
+    turned.settings.environmentRotation = 120.0;
+    const Image turnedPicture = view.render(turned);
+    expectCounts(1, 1, 1, 1, 1, 2);
+    EXPECT_GT(percentApart(turnedPicture, first), 3.0);
+    EXPECT_EQ(test::maxAbsDiff(turnedPicture, freshPicture(*gdm, *sphere, turned, gdm->asset.svd)), 0.0);
+    // A whole turn more: the same picture (the SH rotation by 480 degrees is the one by 120 to rounding;
+    // measured: exactly the same on llvmpipe).
+    GdmFrame whole = turned;
+    whole.settings.environmentRotation = 480.0;
+    const Image wholePicture = view.render(whole);
+    expectCounts(1, 1, 1, 1, 1, 3);
+    EXPECT_LE(test::maxAbsDiff(wholePicture, turnedPicture), 1e-4);
+    // The intensity: the environment alone, a brighter picture.
+    GdmFrame brighter = turned;
+    brighter.settings.environmentIntensity = 2.0;
+    const Image brighterPicture = view.render(brighter);
+    expectCounts(1, 1, 1, 1, 1, 4);
+    EXPECT_GT(percentApart(brighterPicture, turnedPicture), 3.0);
+    EXPECT_EQ(test::maxAbsDiff(brighterPicture, freshPicture(*gdm, *sphere, brighter, gdm->asset.svd)), 0.0);
+
+    // The tiling with the default T (H times the tile's world length: it follows the tiling): the shell,
+    // the macro transfer baked again from the new top of the shell, the environment set again (setMesh
+    // forgets both); the RTV stays.
+    GdmFrame tiled = brighter;
+    tiled.settings.tiling = 2.0;
+    const Image tiledPicture = view.render(tiled);
+    expectCounts(1, 2, 1, 2, 2, 5);
+    EXPECT_EQ(test::maxAbsDiff(tiledPicture, freshPicture(*gdm, *sphere, tiled, gdm->asset.svd)), 0.0);
+    // A thickness of its own: another T, another bake.
+    tiled.settings.shellThickness = 0.2;
+    view.render(tiled);
+    expectCounts(1, 3, 1, 3, 3, 6);
+    // The tiling at that T: the shell, but the macro transfer of the same mesh and T is uploaded as baked.
+    tiled.settings.tiling = 3.0;
+    const Image retiled = view.render(tiled);
+    expectCounts(1, 4, 1, 3, 4, 7);
+    EXPECT_EQ(test::maxAbsDiff(retiled, freshPicture(*gdm, *sphere, tiled, gdm->asset.svd)), 0.0);
+
+    // The rank: the GDM, and the RTV again (setGdm forgets it), the shell and the macro transfer as baked.
+    GdmFrame rank2 = tiled;
+    rank2.settings.rank = 2;
+    const Image truncated = view.render(rank2);
+    expectCounts(2, 5, 2, 3, 5, 8);
+    EXPECT_EQ(
+        test::maxAbsDiff(truncated, freshPicture(*gdm, *sphere, rank2, truncateGdmSvd(gdm->asset.svd, 2))),
+        0.0);
+
+    // A new mesh: the shell and a bake for it.
+    const auto torus = std::make_shared<const Mesh>(makeBuiltinMesh("torus"));
+    view.setMesh(torus, 2);
+    GdmFrame onTorus = rank2;
+    onTorus.mesh = 2;
+    const Image torusPicture = view.render(onTorus);
+    expectCounts(2, 6, 2, 4, 6, 9);
+    EXPECT_EQ(test::maxAbsDiff(torusPicture,
+                               freshPicture(*gdm, *torus, onTorus, truncateGdmSvd(gdm->asset.svd, 2))),
+              0.0);
+
+    // A failure (a rank the asset lacks) uploads everything again next time, the bake kept (same mesh, T).
+    GdmFrame tooMany = onTorus;
+    tooMany.settings.rank = 5;
+    EXPECT_THROW(view.render(tooMany), Error);
+    EXPECT_EQ(test::maxAbsDiff(view.render(onTorus), torusPicture), 0.0);
+    expectCounts(3, 7, 3, 4, 7, 10);
+    EXPECT_NO_THROW(gl::checkGl("the GDM environment test"));
 }
 
 TEST(ViewerGdm, TheWorkerDrawsOnItsOwnContextAndReportsFailures) {
@@ -906,6 +1050,20 @@ TEST(ViewerCli, GdmExitCodesWithoutADisplay) {
     run = runWithoutDisplay("--gdm " + quoted(dir / "tiny") + " --mesh sphere" + shot);
     EXPECT_EQ(run.exitCode, 5) << run.output;
     EXPECT_NE(run.output.find("xvfb-run"), std::string::npos) << run.output;
+    // The environment's flags, as strata render's: 1 without a GDM or out of range (naming the flag), 3 for
+    // an environment that is neither a built-in sky nor a file.
+    run = runWithoutDisplay("--env sky-clear" + shot);
+    EXPECT_EQ(run.exitCode, 1) << run.output;
+    EXPECT_NE(run.output.find("give --gdm"), std::string::npos) << run.output;
+    for (const std::string flag :
+         {"--env-rank 0", "--env-rank 49", "--env-bounces 9", "--env-intensity -1", "--env-rotation inf"}) {
+        run = runWithoutDisplay("--gdm " + quoted(dir / "tiny") + " --env sky-clear " + flag + shot);
+        EXPECT_EQ(run.exitCode, 1) << flag << ": " << run.output;
+        EXPECT_NE(run.output.find(flag.substr(0, flag.find(' '))), std::string::npos) << run.output;
+    }
+    run = runWithoutDisplay("--gdm " + quoted(dir / "tiny") + " --env sky-mars" + shot);
+    EXPECT_EQ(run.exitCode, 3) << run.output;
+    EXPECT_NE(run.output.find("sky-mars"), std::string::npos) << run.output;
     EXPECT_EQ(test::countEntries(dir.path()), 4);  // tiny, svd-only, empty, raw.json: nothing was written
 }
 
@@ -986,6 +1144,59 @@ TEST(ViewerCli, GdmScreenshotUnderXvfbMatchesStrataRender) {
     const Image march = readImage(dir / "march.png");
     expectSameGdmPicture(march, readImage(dir / "render-march.png"), marched.output, renderMarched.output);
     EXPECT_GT(percentApart(march, view), 3.0);
+}
+
+TEST(ViewerCli, GdmEnvironmentScreenshotUnderXvfbMatchesStrataRender) {
+    SKIP_WITHOUT_VIEWER();
+    if (runShell("command -v xvfb-run").exitCode != 0)
+        GTEST_SKIP() << "xvfb-run is not installed (scripts/install-deps.sh installs it)";
+    test::ScratchDir dir("viewer-gdm-env");
+    ASSERT_NO_FATAL_FAILURE(bakeTinyAsset(dir / "tiny", true));
+    // The viewer reads the environment from a scene file's keys, strata render from its flags: the sunset
+    // sky turned by 120 degrees.
+    const fs::path scene = dir / "sunset.json";
+    test::writeBytes(scene, R"({"mesh": "sphere", "gdm": ")" + (dir / "tiny").string() +
+                                R"(", "env": "sky-sunset", "env_rotation": 120})");
+    const std::string size = " --size 256x192";
+    const test::CommandResult view = runUnderXvfb(viewer() + " --scene " + quoted(scene) + size +
+                                                  " --no-ui --screenshot " + quoted(dir / "view.png"));
+    ASSERT_EQ(view.exitCode, 0) << view.output;
+    const std::string common = " --gdm " + quoted(dir / "tiny") + " --mesh sphere" + size;
+    const test::CommandResult render = test::runCli(
+        "render" + common + " --env sky-sunset --env-rotation 120 --samples 1 --bit-depth 16 -o " +
+        quoted(dir / "render.png"));
+    if (render.exitCode == 5)
+        GTEST_SKIP() << "no headless OpenGL context for strata render: " << render.output;
+    ASSERT_EQ(render.exitCode, 0) << render.output;
+    EXPECT_NE(render.output.find("sky-sunset (RTV rank 4, 1 bounce)"), std::string::npos) << render.output;
+    const Image picture = readImage(dir / "view.png");
+    const Image reference = readImage(dir / "render.png");
+    ASSERT_EQ(picture.width(), 256);
+    ASSERT_EQ(picture.height(), 192);
+    ASSERT_EQ(reference.width(), 256);
+    ASSERT_EQ(reference.height(), 192);
+    expectSameGdmPicture(picture, reference, view.output, render.output);
+
+    // The flags as the keys, unturned: strata render's picture again, and another one than the scene's
+    // (measured: 6.6 % of the values more than 2/255 apart, with the point light on; an unchanged
+    // picture is the same to 8-bit rounding, above).
+    const std::string sunset = common + " --env sky-sunset --env-rotation 0";
+    const test::CommandResult unturned =
+        runUnderXvfb(viewer() + sunset + " --no-ui --screenshot " + quoted(dir / "unturned.png"));
+    ASSERT_EQ(unturned.exitCode, 0) << unturned.output;
+    const test::CommandResult renderUnturned = test::runCli(
+        "render" + sunset + " --samples 1 --bit-depth 16 -o " + quoted(dir / "render-unturned.png"));
+    ASSERT_EQ(renderUnturned.exitCode, 0) << renderUnturned.output;
+    const Image unturnedPicture = readImage(dir / "unturned.png");
+    expectSameGdmPicture(unturnedPicture, readImage(dir / "render-unturned.png"), unturned.output,
+                         renderUnturned.output);
+    EXPECT_GT(percentApart(unturnedPicture, picture), 3.0);
+
+    // The panels draw with the environment's section (the Scene panel covers the top-left corner).
+    const test::CommandResult panels =
+        runUnderXvfb(viewer() + sunset + " --screenshot " + quoted(dir / "panels.png"));
+    ASSERT_EQ(panels.exitCode, 0) << panels.output;
+    EXPECT_GT(meanAbsDiff(readImage(dir / "panels.png"), unturnedPicture, 10, 10, 100, 60), 0.05);
 }
 
 }  // namespace
