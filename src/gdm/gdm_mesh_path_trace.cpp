@@ -4,6 +4,7 @@
 #include "strata/core/parallel.h"
 
 #include "mesh_reference_scene.h"
+#include "path_sampling.h"
 #include "periodic_scene.h"
 #include "scene_images.h"
 
@@ -29,46 +30,6 @@ constexpr double kSurfaceOffsetTiles = 1e-5;
 // ray heads into the mesh is absorbed: its offset start may lie below the base, where the ray would not
 // cross the mesh's triangle.
 constexpr double kBaseBand = 2e-5;
-
-// The flat tracer's generator (gdm_path_trace.cpp), repeated: splitmix64 (Steele, Lea and Flood 2014), one
-// stream per (seed, pixel, sample), so that on the quad both tracers draw the same paths.
-constexpr std::uint64_t kGolden = 0x9e3779b97f4a7c15ull;
-std::uint64_t mix(std::uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
-class PathRandom {
-public:
-    PathRandom(std::uint64_t seed, int i, int j, int sample) {
-        std::uint64_t h = mix(seed + kGolden);
-        h = mix(h ^ ((std::uint64_t(std::uint32_t(j)) << 32) | std::uint64_t(std::uint32_t(i))));
-        mState = mix(h ^ std::uint64_t(std::uint32_t(sample)));
-    }
-    // Uniform in [0, 1): the top 53 bits.
-    double next() {
-        mState += kGolden;
-        return double(mix(mState) >> 11) * 0x1.0p-53;
-    }
-
-private:
-    std::uint64_t mState;
-};
-
-// A direction drawn with density cos(theta) / pi around the unit normal n (Malley's method), in the
-// orthonormal basis of Duff et al. 2017: the flat tracer's.
-glm::dvec3 cosineDirection(const glm::dvec3& n, double u1, double u2) {
-    const double sign = std::copysign(1.0, n.z);
-    const double a = -1.0 / (sign + n.z);
-    const double b = n.x * n.y * a;
-    const glm::dvec3 t(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    const glm::dvec3 s(b, sign + n.y * n.y * a, -n.y);
-    const double r = std::sqrt(u1);
-    const double phi = 2.0 * std::numbers::pi * u2;
-    const glm::dvec3 d = r * std::cos(phi) * t + r * std::sin(phi) * s + std::sqrt(1.0 - u1) * n;
-    return glm::normalize(d);
-}
 
 // The albedo's texture point of an unwrapped hit position (u, v, z): (u mod 1, v mod 1, z / H in [0, 1]).
 glm::dvec3 texturePoint(const glm::dvec3& texture, double height) {

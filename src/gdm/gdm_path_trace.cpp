@@ -7,6 +7,7 @@
 #include "strata/gdm/mesostructure.h"
 #include "strata/image/srgb.h"
 
+#include "path_sampling.h"
 #include "periodic_scene.h"
 #include "scene_hit.h"
 #include "scene_images.h"
@@ -30,61 +31,6 @@ using namespace detail;
 // the face it leaves: the reference's shadow offset (gdm_trace.cpp), far below a voxel (1 / 64) and far
 // above float rounding at unit scale.
 constexpr double kSurfaceOffset = 1e-5;
-
-// splitmix64 (Steele, Lea and Flood 2014): the finaliser as a hash, and the generator as a counter through
-// it.
-constexpr std::uint64_t kGolden = 0x9e3779b97f4a7c15ull;
-std::uint64_t mix(std::uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
-class PathRandom {
-public:
-    // One stream per path: (seed, pixel, sample) hashed into the starting state.
-    PathRandom(std::uint64_t seed, int i, int j, int sample) {
-        std::uint64_t h = mix(seed + kGolden);
-        h = mix(h ^ ((std::uint64_t(std::uint32_t(j)) << 32) | std::uint64_t(std::uint32_t(i))));
-        mState = mix(h ^ std::uint64_t(std::uint32_t(sample)));
-    }
-    // Uniform in [0, 1): the top 53 bits.
-    double next() {
-        mState += kGolden;
-        return double(mix(mState) >> 11) * 0x1.0p-53;
-    }
-
-private:
-    std::uint64_t mState;
-};
-
-// A direction drawn with density cos(theta) / pi around the unit normal n (Malley's method), in the
-// orthonormal basis of Duff et al. 2017 ("Building an Orthonormal Basis, Revisited").
-glm::dvec3 cosineDirection(const glm::dvec3& n, double u1, double u2) {
-    const double sign = std::copysign(1.0, n.z);
-    const double a = -1.0 / (sign + n.z);
-    const double b = n.x * n.y * a;
-    const glm::dvec3 t(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    const glm::dvec3 s(b, sign + n.y * n.y * a, -n.y);
-    const double r = std::sqrt(u1);
-    const double phi = 2.0 * std::numbers::pi * u2;
-    const glm::dvec3 d = r * std::cos(phi) * t + r * std::sin(phi) * s + std::sqrt(1.0 - u1) * n;
-    return glm::normalize(d);
-}
-
-// A direction drawn with density (s + 1) / (2 pi) (w . r)^s around the unit r (the Phong lobe), in the same
-// orthonormal basis.
-glm::dvec3 phongDirection(const glm::dvec3& r, double shininess, double u1, double u2) {
-    const double sign = std::copysign(1.0, r.z);
-    const double a = -1.0 / (sign + r.z);
-    const double b = r.x * r.y * a;
-    const glm::dvec3 t(1.0 + sign * r.x * r.x * a, sign * b, -sign * r.x);
-    const glm::dvec3 s(b, sign + r.y * r.y * a, -r.y);
-    const double cosine = std::pow(u1, 1.0 / (shininess + 1.0));
-    const double sine = std::sqrt(std::max(1.0 - cosine * cosine, 0.0));
-    const double phi = 2.0 * std::numbers::pi * u2;
-    return glm::normalize(sine * std::cos(phi) * t + sine * std::sin(phi) * s + cosine * r);
-}
 
 // The glossy term's own random stream: the seed xor this constant.
 constexpr std::uint64_t kGlossyStream = 0x676c6f7373790001ull;
