@@ -84,6 +84,13 @@ uniform int uRtvRank;
 uniform int uRtvWeightsAt;
 uniform int uRtvInsideAt;
 uniform int uLightingAt;
+// The glossy RTV's SVD in the Rtv buffer (GdmRenderer::setGlossyRtv): rank (0: none), where W and E start,
+// the view grid and the specular coefficient.
+uniform int uGlossyRank;
+uniform int uGlossyWeightsAt;
+uniform int uGlossyBasisAt;
+uniform ivec3 uGlossyViews;  // Ntheta, the view rows (Ntheta / 2), Nphi
+uniform float uGlossySpecular;
 
 const float kShadowBackoffVoxels = 1.0;
 const float kShadowDropVoxels = 0.5;
@@ -182,15 +189,10 @@ vec3 volumeNormal(vec3 p) {
     return length(gradient) > 1e-6 ? normalize(gradient) : vec3(0.0);
 }
 
-// The diffuse environment term of a hit at texture point p (Wang et al. 2004, Sec. 4.2): the RTV's transfer
-// there dotted with the meso-scale lighting there, per channel, for albedo 1 (gdmRtvRadiance's, with
-// gdmRtvTransferAt's lookup: trilinear over the voxel centres, wrapping in u, v and clamped in w, the corners
-// inside the solid left out and the others' weights renormalised; all 8 inside: the nearest outside voxel
-// centre of the 4 x 4 x 4 around the cell). The transfer is linear in the SVD's weights, so the weights are
-// interpolated first and the basis applied once.
-vec3 environmentTerm(vec3 p) {
-    // The lighting: the prism's corners' per-vertex lighting, barycentric at the hit's (u, v) in the
-    // prism's footprint (clamped to it: a hit a rounding error outside).
+// The meso-scale lighting at a hit at texture point p (Wang et al. 2004, Sec. 4.2): the hit's prism's
+// corners' per-vertex lighting, barycentric at the hit's (u, v) in the prism's footprint (clamped to it: a
+// hit a rounding error outside).
+void mesoLighting(vec3 p, out vec3 lighting[16]) {
     int corner = int(vIn.prism) * 12;
     vec2 t0 = vec2(environmentData[corner], environmentData[corner + 1]);
     vec2 t1 = vec2(environmentData[corner + 4], environmentData[corner + 5]);
@@ -206,13 +208,21 @@ vec3 environmentTerm(vec3 p) {
     int v0 = uLightingAt + 48 * int(environmentData[corner + 2]);
     int v1 = uLightingAt + 48 * int(environmentData[corner + 6]);
     int v2 = uLightingAt + 48 * int(environmentData[corner + 10]);
-    // The RTV stencil.
+    for (int k = 0; k < 16; ++k)
+        lighting[k] = b.x * vec3(environmentData[v0 + 3 * k], environmentData[v0 + 3 * k + 1], environmentData[v0 + 3 * k + 2]) +
+                      b.y * vec3(environmentData[v1 + 3 * k], environmentData[v1 + 3 * k + 1], environmentData[v1 + 3 * k + 2]) +
+                      b.z * vec3(environmentData[v2 + 3 * k], environmentData[v2 + 3 * k + 1], environmentData[v2 + 3 * k + 2]);
+}
+
+// The RTV's voxel stencil at p (gdmRtvTransferAt's: trilinear over the voxel centres, wrapping in u, v and
+// clamped in w, the corners inside the solid left out and the others' weights renormalised; all 8 inside:
+// the nearest outside voxel centre of the 4 x 4 x 4 around the cell). Returns the number of voxels (0:
+// none outside).
+int rtvStencil(vec3 p, out int voxel[8], out float weight[8]) {
     float fx = p.x * float(uVoxels.x) - 0.5, fy = p.y * float(uVoxels.y) - 0.5;
     float fz = clamp(p.z / uHeight * float(uVoxels.z) - 0.5, 0.0, float(uVoxels.z - 1));
     vec3 cell = floor(vec3(fx, fy, fz));
     vec3 a = vec3(fx, fy, fz) - cell;
-    int voxel[8];
-    float weight[8];
     int count = 0;
     float total = 0.0;
     for (int c = 0; c < 8; ++c) {
@@ -246,9 +256,15 @@ vec3 environmentTerm(vec3 p) {
                         total = 1.0;
                     }
                 }
-        if (count == 0) return vec3(0.0);
     }
-    // Per basis function r: its interpolated weight times the basis row dotted with the lighting.
+    for (int c = 0; c < count; ++c) weight[c] /= total;
+    return count;
+}
+
+// The diffuse environment term at a hit, for albedo 1 (gdmRtvRadiance's): the RTV's transfer dotted with the
+// meso-scale lighting, per channel. The transfer is linear in the SVD's weights, so the weights are
+// interpolated first and the basis applied once.
+vec3 diffuseEnvironment(int voxel[8], float weight[8], int count, vec3 lighting[16]) {
     vec3 radiance = vec3(0.0);
     for (int r = 0; r < uRtvRank; ++r) {
         float w = 0.0;
@@ -256,14 +272,63 @@ vec3 environmentTerm(vec3 p) {
         if (w == 0.0) continue;
         vec3 dotted = vec3(0.0);
         int row = r * 48;
-        for (int k = 0; k < 16; ++k) {
-            vec3 l = b.x * vec3(environmentData[v0 + 3 * k], environmentData[v0 + 3 * k + 1], environmentData[v0 + 3 * k + 2]) +
-                     b.y * vec3(environmentData[v1 + 3 * k], environmentData[v1 + 3 * k + 1], environmentData[v1 + 3 * k + 2]) +
-                     b.z * vec3(environmentData[v2 + 3 * k], environmentData[v2 + 3 * k + 1], environmentData[v2 + 3 * k + 2]);
-            dotted += vec3(rtvData[row + 3 * k], rtvData[row + 3 * k + 1], rtvData[row + 3 * k + 2]) * l;
-        }
-        radiance += (w / total) * dotted;
+        for (int k = 0; k < 16; ++k)
+            dotted += vec3(rtvData[row + 3 * k], rtvData[row + 3 * k + 1], rtvData[row + 3 * k + 2]) * lighting[k];
+        radiance += w * dotted;
     }
+    return radiance;
+}
+
+// The glossy term at a hit seen from direction `view` (towards the eye, texture frame), without the specular
+// coefficient (gdmGlossyTransferAt's lookup on the SVD): per coefficient k, G_k = sum over r of the
+// stencil's W_k weights times the view's E_k value, bilinear between the view centres (phi wrapping, theta
+// clamped to the first and last rows), then sum over k of G_k L_k.
+vec3 glossyEnvironment(int voxel[8], float weight[8], int count, vec3 lighting[16], vec3 view) {
+    const float pi = 3.14159265358979;
+    vec3 w = normalize(view);
+    float theta = acos(clamp(w.z, -1.0, 1.0));
+    float phi = atan(w.y, w.x);
+    if (phi < 0.0) phi += 2.0 * pi;
+    int rows = uGlossyViews.y, columns = uGlossyViews.z;
+    float ft = clamp(theta / pi * float(uGlossyViews.x) - 0.5, 0.0, float(rows - 1));
+    float fp = phi / (2.0 * pi) * float(columns) - 0.5;
+    float t0 = floor(ft), p0 = floor(fp);
+    float at = ft - t0, ap = fp - p0;
+    int views[4];
+    float viewWeight[4];
+    for (int c = 0; c < 4; ++c) {
+        int dt = c & 1, dp = (c >> 1) & 1;
+        views[c] = min(int(t0) + dt, rows - 1) * columns + gdmWrap(int(p0) + dp, columns);
+        viewWeight[c] = (dt == 1 ? at : 1.0 - at) * (dp == 1 ? ap : 1.0 - ap);
+    }
+    int voxels = uVoxels.x * uVoxels.y * uVoxels.z, viewCount = rows * columns;
+    vec3 radiance = vec3(0.0);
+    for (int k = 0; k < 16; ++k) {
+        float g = 0.0;
+        for (int r = 0; r < uGlossyRank; ++r) {
+            float wr = 0.0;
+            for (int c = 0; c < count; ++c) wr += weight[c] * rtvData[uGlossyWeightsAt + (k * voxels + voxel[c]) * uGlossyRank + r];
+            float er = 0.0;
+            int basis = uGlossyBasisAt + (k * uGlossyRank + r) * viewCount;
+            for (int c = 0; c < 4; ++c) er += viewWeight[c] * rtvData[basis + views[c]];
+            g += wr * er;
+        }
+        radiance += g * lighting[k];
+    }
+    return radiance;
+}
+
+// The environment's light leaving a hit at texture point p of albedo `colour`, seen from `view`: the
+// diffuse term times the albedo, plus the glossy term times its specular coefficient when there is one.
+vec3 environmentTerm(vec3 p, vec3 colour, vec3 view) {
+    vec3 lighting[16];
+    mesoLighting(p, lighting);
+    int voxel[8];
+    float weight[8];
+    int count = rtvStencil(p, voxel, weight);
+    if (count == 0) return vec3(0.0);
+    vec3 radiance = colour * diffuseEnvironment(voxel, weight, count, lighting);
+    if (uGlossyRank > 0) radiance += uGlossySpecular * glossyEnvironment(voxel, weight, count, lighting, view);
     return radiance;
 }
 
@@ -291,7 +356,7 @@ vec3 shade(vec3 texturePoint, vec3 worldPoint, vec3 direction, bool lit) {
     float diffuse = max(dot(world, toLight), 0.0);
     float specular = diffuse > 0.0 ? uSpecular * pow(max(dot(world, normalize(toLight + toEye)), 0.0), uShininess) : 0.0;
     // The environment (bi-scale radiance transfer) replaces the ambient term.
-    vec3 result = uEnvironment ? colour * environmentTerm(texturePoint) : uAmbient * colour;
+    vec3 result = uEnvironment ? environmentTerm(texturePoint, colour, -direction) : uAmbient * colour;
     if (lit) result += uLightColor * (diffuse * colour + specular);
     return result;
 }

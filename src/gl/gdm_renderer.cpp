@@ -97,6 +97,12 @@ struct GdmRenderer::Impl {
     Buffer rtv, environment;
     int rtvRank = 0;  // 0: none
     std::size_t rtvWeightsAt = 0, rtvInsideAt = 0;
+    // The rtv buffer's two parts, kept to upload them together: the diffuse RTV (basis, weights, inside
+    // flags) and after it the glossy RTV's SVD (setGlossyRtv: its weights W_k, then its bases E_k).
+    std::vector<float> rtvDiffuse, rtvGlossy;
+    int glossyRank = 0;  // 0: none
+    int glossyViewRows = 0, glossyViews = 0;
+    double glossySpecular = 0.0;
     std::vector<float> prismCorners;  // 4 floats per corner, 3 corners per prism (setMesh)
     std::size_t meshVertexCount = 0;
     std::vector<float> macroTransfer;  // 256 floats per mesh vertex; empty: none
@@ -119,6 +125,9 @@ struct GdmRenderer::Impl {
         hasOccupancy = hasAlbedo = hasDistance = false;
         rtv.store(none);
         rtvRank = 0;
+        rtvDiffuse.clear();
+        rtvGlossy.clear();
+        glossyRank = 0;
         hasEnvironment = false;
         macroTransfer.clear();
         rank = k;
@@ -149,11 +158,18 @@ struct GdmRenderer::Impl {
         data.insert(data.end(), basis.begin(), basis.end());
         data.insert(data.end(), rtvWeights.begin(), rtvWeights.end());
         for (const float d : distance) data.push_back(d < 0.0f ? 1.0f : 0.0f);
-        rtv.store(data);
-        checkGl("GdmRenderer: uploading the RTV");
+        rtvDiffuse = std::move(data);
         rtvRank = rtvRankIn;
         rtvWeightsAt = basis.size();
         rtvInsideAt = basis.size() + rtvWeights.size();
+        uploadRtv();
+    }
+    // The rtv buffer: the diffuse part, then the glossy one.
+    void uploadRtv() {
+        std::vector<float> data(rtvDiffuse);
+        data.insert(data.end(), rtvGlossy.begin(), rtvGlossy.end());
+        rtv.store(data);
+        checkGl("GdmRenderer: uploading the RTV");
     }
     static void describe(const VertexArray& array, const Buffer& buffer) {
         glVertexArrayVertexBuffer(array.id, 0, buffer.id, 0, sizeof(Vertex));
@@ -223,6 +239,13 @@ struct GdmRenderer::Impl {
         glUniform1i(program.uniformLocation("uRtvRank"), rtvRank);
         glUniform1i(program.uniformLocation("uRtvWeightsAt"), GLint(rtvWeightsAt));
         glUniform1i(program.uniformLocation("uRtvInsideAt"), GLint(rtvInsideAt));
+        glUniform1i(program.uniformLocation("uGlossyRank"), glossyRank);
+        glUniform1i(program.uniformLocation("uGlossyWeightsAt"), GLint(rtvDiffuse.size()));
+        glUniform1i(program.uniformLocation("uGlossyBasisAt"),
+                    GLint(rtvDiffuse.size() +
+                          std::size_t(kShCount) * dims->voxelCount() * std::size_t(std::max(glossyRank, 0))));
+        glUniform3i(program.uniformLocation("uGlossyViews"), dims->ntheta, glossyViewRows, glossyViews);
+        glUniform1f(program.uniformLocation("uGlossySpecular"), float(glossySpecular));
         glUniform1i(program.uniformLocation("uLightingAt"), GLint(prismCorners.size()));
         glBindVertexArray(array.id);
         glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer());
@@ -480,6 +503,38 @@ void GdmRenderer::setRtv(const GdmRtv& rtv) {
 
 void GdmRenderer::setRtv(const GdmRtvSvd& rtv) {
     mImpl->storeRtv(rtv.dims, rtv.rank, rtv.basis, rtv.weights, rtv.distance, "the RTV's SVD");
+}
+
+void GdmRenderer::setGlossyRtv(const GdmGlossyRtvSvd& glossy, double specular) {
+    Impl& m = *mImpl;
+    if (m.rtvRank == 0)
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: set the (diffuse) RTV before the glossy one");
+    if (!(std::isfinite(specular) && specular >= 0.0))
+        throw Error(ErrorKind::InvalidInput,
+                    "GdmRenderer: the glossy term's specular " + formatNumber(specular) + " is not >= 0");
+    const GdmDims& d = glossy.dims;
+    if (d.nx != m.dims->nx || d.ny != m.dims->ny || d.nz != m.dims->nz || d.ntheta < 2 ||
+        glossy.viewCount != std::size_t(d.ntheta / 2) * std::size_t(d.nphi))
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: the glossy RTV is not on the GDM's voxel grid");
+    const std::size_t voxels = d.voxelCount(), rank = std::size_t(std::max(glossy.rank, 0));
+    if (rank < 1 || glossy.weights.size() != std::size_t(kShCount) * voxels * rank ||
+        glossy.basis.size() != std::size_t(kShCount) * rank * glossy.viewCount)
+        throw Error(ErrorKind::InvalidInput, "GdmRenderer: the glossy RTV's maps do not match its rank");
+    m.rtvGlossy = glossy.weights;
+    m.rtvGlossy.insert(m.rtvGlossy.end(), glossy.basis.begin(), glossy.basis.end());
+    m.glossyRank = glossy.rank;
+    m.glossyViewRows = d.ntheta / 2;
+    m.glossyViews = d.nphi;
+    m.glossySpecular = specular;
+    m.uploadRtv();
+}
+
+void GdmRenderer::clearGlossyRtv() {
+    Impl& m = *mImpl;
+    if (m.glossyRank == 0) return;
+    m.rtvGlossy.clear();
+    m.glossyRank = 0;
+    m.uploadRtv();
 }
 
 void GdmRenderer::setMacroTransfer(const MacroTransfer& transfer) {

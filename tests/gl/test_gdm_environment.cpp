@@ -10,6 +10,7 @@
 #include "strata/gdm/gdm_distance.h"
 #include "strata/gdm/gdm_path_trace.h"
 #include "strata/gdm/gdm_rtv.h"
+#include "strata/gdm/gdm_rtv_glossy.h"
 #include "strata/gdm/gdm_trace.h"
 #include "strata/gdm/macro_transfer.h"
 #include "strata/gdm/mesostructure.h"
@@ -120,6 +121,65 @@ TEST_F(GdmEnvironmentGl, TheShaderShadesAsTheCpuRtv) {
     const std::size_t voxels = weave().gdm.dims.voxelCount();
     EXPECT_EQ(renderer.gpuMemory().environment,
               (4 * 48 + voxels * 4 + voxels) * sizeof(float) + (2 * 12 + 4 * 48) * sizeof(float));
+}
+
+TEST_F(GdmEnvironmentGl, TheShaderAddsTheGlossyTermAsTheCpu) {
+    // The diffuse RTV plus the glossy one (rank 4, specular 0.5) under the sunset sky: the shader's picture
+    // against 0.7 gdmRtvRadiance + 0.5 gdmGlossyRadiance at the shader's own hits, seen along the pixel's
+    // ray (on the quad at tiling 1 with T = H the texture frame is world).
+    const ShColor sky = makeEnvironment("sky-sunset", 64, 32).sh();
+    const GdmRtv rtv =
+        bakeGdmRtv(weave().gdm, weave().distance, [](const glm::dvec3&) { return glm::dvec3(0.7); });
+    const GdmGlossyRtvSvd glossy = compressGdmGlossyRtv(bakeGdmGlossyRtv(weave().gdm, weave().distance), 4);
+    constexpr double kSpecular = 0.5;
+    gl::GdmRenderer renderer;
+    prepare(renderer, sky);
+    EXPECT_THROW(renderer.setGlossyRtv(glossy, kSpecular), Error);  // before the diffuse RTV
+    renderer.setRtv(rtv);
+    renderer.setGlossyRtv(glossy, kSpecular);
+    const Camera camera = gdmSceneView(45.0);
+    const GdmSceneImages hits = renderer.render(camera, kLight, kSize, kSize);
+    const Image shaded = renderer.renderShaded(camera, kLight, kSize, kSize);
+    double worst = 0.0, glossySum = 0.0, totalSum = 0.0;
+    int compared = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            if (hits.mask.at(x, y) < 0.5f) continue;
+            const glm::dvec3 point(hits.uvw.at(x, y, 0), hits.uvw.at(x, y, 1),
+                                   double(hits.uvw.at(x, y, 2)) * rtv.height);
+            const glm::dvec3 view = -pixelRayDirection(camera, kSize, kSize, x + 0.5, y + 0.5);
+            const glm::dvec3 diffuse = 0.7 * gdmRtvRadiance(rtv, point, sky);
+            const glm::dvec3 specular = gdmGlossyRadiance(glossy, point, view, sky, kSpecular);
+            const glm::dvec3 expected = diffuse + specular;
+            glossySum += specular.y;
+            totalSum += expected.y;
+            for (int c = 0; c < 3; ++c) {
+                const double scale = std::max(expected[c], 0.05);
+                worst = std::max(worst, std::abs(double(shaded.at(x, y, c)) - expected[c]) / scale);
+            }
+            ++compared;
+        }
+    std::printf(
+        "glossy: shader against CPU, largest relative difference %.2e over %d hits; the glossy term "
+        "is %.0f%% of the radiance\n",
+        worst, compared, 100.0 * glossySum / totalSum);
+    EXPECT_GT(compared, kSize * kSize / 4);
+    EXPECT_GT(glossySum / totalSum, 0.05);  // the glossy term is there to be compared
+    // The diffuse part agrees to 1e-6 (above); the glossy part adds the view direction, which the shader
+    // takes from its texture-space segment in float (about 1e-6 radians off the CPU's pixel ray): near a
+    // view-cell edge that moves the bilinear weights by 1e-6 / (11.25 degrees), and G changes by its own
+    // size across a cell. 1e-3 leaves room for float sums over 16 coefficients x 4 ranks x 12 taps.
+    EXPECT_LT(worst, 1e-3);
+    // Memory: the glossy maps ride in the RTV's buffer.
+    const std::size_t voxels = weave().gdm.dims.voxelCount();
+    EXPECT_GE(renderer.gpuMemory().environment,
+              (16 * voxels * 4 + 16 * 4 * glossy.viewCount) * sizeof(float));
+    renderer.clearGlossyRtv();
+    const Image plain = renderer.renderShaded(camera, kLight, kSize, kSize);
+    double brighter = 0.0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) brighter += double(shaded.at(x, y, 1)) - double(plain.at(x, y, 1));
+    EXPECT_GT(brighter, 0.0);
 }
 
 TEST_F(GdmEnvironmentGl, MatchesThePathTracerOnTheVerificationScene) {

@@ -16,6 +16,7 @@
 #include "strata/environment/spherical_harmonics.h"
 #include "strata/gdm/gdm.h"
 #include "strata/gdm/gdm_rtv.h"
+#include "strata/gdm/gdm_rtv_glossy.h"
 #include "strata/gdm/gdm_svd.h"
 #include "strata/gdm/gdm_trace.h"
 #include "strata/gdm/macro_transfer.h"
@@ -168,6 +169,16 @@ public:
     // setGdm forgets it.
     void setRtv(const GdmRtv& rtv);
     void setRtv(const GdmRtvSvd& rtv);
+    // A glossy term on top (gdm_rtv_glossy.h): the view-dependent RTV's SVD in the paper's layout (per SH
+    // coefficient, rows the voxels, columns the views) and its specular coefficient; renderShaded adds
+    //     specular * sum over k of G_k(hit, w_o) L_k
+    // (white, not times the albedo), G reconstructed at the hit as gdmGlossyTransferAt does (the weights
+    // trilinear over the voxel centres, the bases bilinear between the view directions), w_o the direction
+    // from the hit towards the eye in the isotropic texture frame (minus the ray's texture-space direction).
+    // Throws Error(InvalidInput) before setRtv, for another voxel grid, maps that do not match the rank, or
+    // a specular that is not finite and >= 0. setRtv keeps it; setGdm forgets it; clearGlossyRtv drops it.
+    void setGlossyRtv(const GdmGlossyRtvSvd& glossy, double specular);
+    void clearGlossyRtv();
     // The macro transfer of the mesh set last (bakeMacroTransfer of the same mesh: one matrix per mesh
     // vertex). Throws Error(InvalidInput) before setMesh or for another vertex count. setMesh forgets it.
     void setMacroTransfer(const MacroTransfer& transfer);
