@@ -161,6 +161,7 @@ Image GdmView::render(const GdmFrame& frame) {
         if (environment) {
             if (!mUploadedRtv) {
                 mRenderer.setRtv(*mGdm->rtv);
+                if (mGdm->glossy) mRenderer.setGlossyRtv(*mGdm->glossy, mGdm->glossySpecular);
                 ++mRtvUploads;
                 mUploadedRtv = true;
             }

@@ -86,18 +86,22 @@ int main(int argc, char** argv) {
                    "With --gdm: the prism shell's thickness T in world units (default: H times the world "
                    "length of one tile)")
         ->check(CLI::PositiveNumber);
-    app.add_option("--env", options.env,
+    app.add_option("--env", options.env.source,
                    "With --gdm: light it with an environment, a built-in sky (sky-clear, sky-overcast, "
                    "sky-sunset, studio) or an equirectangular EXR, as strata render --env");
-    app.add_option("--env-rotation", options.envRotation,
+    app.add_option("--env-rotation", options.env.rotation,
                    "With --env: degrees the environment turns about +z (towards +y), default 0; the GDM "
                    "panel turns it live");
-    app.add_option("--env-intensity", options.envIntensity,
+    app.add_option("--env-intensity", options.env.intensity,
                    "With --env: its radiance's scale, >= 0, default 1; the GDM panel scales it live");
-    app.add_option("--env-bounces", options.envBounces,
+    app.add_option("--env-bounces", options.env.bounces,
                    "With --env: interreflections in the radiance transfer volume, 0..8, default 1");
-    app.add_option("--env-rank", options.envRank,
+    app.add_option("--env-rank", options.env.rank,
                    "With --env: the radiance transfer volume's SVD terms, 1..48, default 4 (the paper's)");
+    app.add_option("--env-specular", options.env.specular,
+                   "With --env: a glossy term's specular coefficient, >= 0, default 0 (none)");
+    app.add_option("--env-shininess", options.env.shininess,
+                   "With --env-specular: the glossy lobe's Phong exponent, 0..64, default 8");
 
     try {
         app.parse(argc, argv);

@@ -548,35 +548,7 @@ void applyGdmOptions(const ViewerOptions& options, Scene& scene) {
     if (options.tiling) scene.relief.tiling = *options.tiling;
     // The environment's flags as `strata render`'s (apps/strata/render_common.cpp): range errors name the
     // flag (readScene has checked the scene's keys).
-    EnvironmentSettings& env = scene.environment;
-    if (!options.env.empty()) env.source = options.env;
-    if (options.envRotation) {
-        if (!std::isfinite(*options.envRotation))
-            throw Error(ErrorKind::Usage, "--env-rotation must be a finite number of degrees");
-        env.rotation = *options.envRotation;
-    }
-    if (options.envIntensity) {
-        if (!(std::isfinite(*options.envIntensity) && *options.envIntensity >= 0.0))
-            throw Error(ErrorKind::Usage,
-                        "--env-intensity must be >= 0, got " + formatNumber(*options.envIntensity));
-        env.intensity = *options.envIntensity;
-    }
-    if (options.envBounces) {
-        if (*options.envBounces < 0 || *options.envBounces > 8)
-            throw Error(ErrorKind::Usage,
-                        "--env-bounces must be in [0, 8], got " + std::to_string(*options.envBounces));
-        env.bounces = *options.envBounces;
-    }
-    if (options.envRank) {
-        if (*options.envRank < 1 || *options.envRank > 48)
-            throw Error(ErrorKind::Usage,
-                        "--env-rank must be in [1, 48], got " + std::to_string(*options.envRank));
-        env.rank = *options.envRank;
-    }
-    if (gdm.source.empty() && (!options.env.empty() || options.envRotation || options.envIntensity ||
-                               options.envBounces || options.envRank))
-        throw Error(ErrorKind::Usage,
-                    "--env and its flags light a GDM: give --gdm (or a scene's \"gdm\") with them");
+    applyEnvironmentFlags(options.env, scene.environment, !gdm.source.empty());
     if (gdm.source.empty()) {
         if (!options.gdmTechnique.empty() || !options.gdmRank.empty() || options.shellThickness ||
             !options.gdmLightFrame.empty())

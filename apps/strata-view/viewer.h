@@ -38,11 +38,9 @@ struct ViewerOptions {
     std::optional<double> tiling;          // tiles per unit of mesh uv (> 0); unset = the scene's
     // The GDM's environment lighting (as `strata render --env`, EnvironmentSettings): a built-in sky or an
     // equirectangular EXR; "" = the scene's "env" (none: the ambient term). Unset numbers: the scene's.
-    std::string env;
-    std::optional<double> envRotation;   // degrees about +z, finite; the panel turns it live
-    std::optional<double> envIntensity;  // >= 0; the panel scales it live
-    std::optional<int> envBounces;       // [0, 8]: the RTV's bake
-    std::optional<int> envRank;          // [1, 48]: the RTV's SVD terms
+    // The rotation (the panel turns it live) and intensity (the panel scales it live), the RTV's bounces and
+    // rank and the glossy term's specular and shininess (baked at start).
+    EnvironmentFlags env;
 };
 
 // Runs the viewer until its window is closed (or, with a screenshot, until it is written).

@@ -137,19 +137,24 @@ void addSceneFlags(CLI::App& command, SceneFlags& f) {
     command.add_option("--shell-thickness", f.shellThickness,
                        "With --gdm: the prism shell's thickness T in world units (default: H times the world "
                        "length of one tile)");
-    command.add_option("--env", f.env,
+    command.add_option("--env", f.env.source,
                        "With --gdm: light it with an environment, a built-in sky (sky-clear, sky-overcast, "
                        "sky-sunset, studio) or an equirectangular EXR (CONVENTIONS §9), by bi-scale radiance "
                        "transfer (docs/gdm.md); it replaces the ambient term");
-    command.add_option("--env-rotation", f.envRotation,
+    command.add_option("--env-rotation", f.env.rotation,
                        "With --env: degrees the environment turns about +z (towards +y), default 0");
-    command.add_option("--env-intensity", f.envIntensity,
+    command.add_option("--env-intensity", f.env.intensity,
                        "With --env: its radiance's scale, >= 0, default 1");
-    command.add_option("--env-bounces", f.envBounces,
+    command.add_option("--env-bounces", f.env.bounces,
                        "With --env: interreflections in the radiance transfer volume, 0..8, default 1");
     command.add_option(
-        "--env-rank", f.envRank,
+        "--env-rank", f.env.rank,
         "With --env: the radiance transfer volume's SVD terms, 1..48, default 4 (the paper's)");
+    command.add_option("--env-specular", f.env.specular,
+                       "With --env: a glossy term's specular coefficient, >= 0, default 0 (none); bakes the "
+                       "view-dependent radiance transfer volume");
+    command.add_option("--env-shininess", f.env.shininess,
+                       "With --env-specular: the glossy lobe's Phong exponent, 0..64, default 8");
 }
 
 Scene buildScene(const SceneFlags& f) {
@@ -206,33 +211,7 @@ Scene buildScene(const SceneFlags& f) {
     if (f.shellThickness) gdm.shellThickness = *f.shellThickness;
     if (!f.gdmLightFrame.empty()) gdm.lightFrame = parseGdmLightFrame(f.gdmLightFrame);
     EnvironmentSettings& env = scene.environment;
-    if (!f.env.empty()) env.source = f.env;
-    // Range errors on the flags name the flag (validate() below names the scene keys).
-    if (f.envRotation) {
-        if (!std::isfinite(*f.envRotation))
-            throw Error(ErrorKind::Usage, "--env-rotation must be a finite number of degrees");
-        env.rotation = *f.envRotation;
-    }
-    if (f.envIntensity) {
-        if (!(std::isfinite(*f.envIntensity) && *f.envIntensity >= 0.0))
-            throw Error(ErrorKind::Usage,
-                        "--env-intensity must be >= 0, got " + formatNumber(*f.envIntensity));
-        env.intensity = *f.envIntensity;
-    }
-    if (f.envBounces) {
-        if (*f.envBounces < 0 || *f.envBounces > 8)
-            throw Error(ErrorKind::Usage,
-                        "--env-bounces must be in [0, 8], got " + std::to_string(*f.envBounces));
-        env.bounces = *f.envBounces;
-    }
-    if (f.envRank) {
-        if (*f.envRank < 1 || *f.envRank > 48)
-            throw Error(ErrorKind::Usage, "--env-rank must be in [1, 48], got " + std::to_string(*f.envRank));
-        env.rank = *f.envRank;
-    }
-    if (gdm.source.empty() &&
-        (!f.env.empty() || f.envRotation || f.envIntensity || f.envBounces || f.envRank))
-        throw Error(ErrorKind::Usage, "--env and its flags light a GDM render: give --gdm with them");
+    applyEnvironmentFlags(f.env, env, !gdm.source.empty());
     if (!gdm.source.empty() && (!f.material.empty() || !scene.depthMap.empty()))
         throw Error(
             ErrorKind::Usage,

@@ -46,9 +46,7 @@ struct SceneFlags {
     std::optional<double> shellThickness;
     std::string gdmLightFrame;  // world | jacobian
     // Environment lighting of a GDM render (EnvironmentSettings).
-    std::string env;  // sky-NAME or an equirectangular EXR
-    std::optional<double> envRotation, envIntensity;
-    std::optional<int> envBounces, envRank;
+    EnvironmentFlags env;
 };
 
 // A vector flag such as --eye 0.5,-1,1: three finite numbers separated by commas. Throws Error(Usage)

@@ -104,9 +104,20 @@ void loadEnvironmentLighting(const Scene& scene, SceneGdm& out, const SceneProgr
     options.bounces = settings.bounces;
     const GdmRtv rtv = bakeGdmRtv(*raw, distance, albedo, options);
     out.rtv = compressGdmRtv(rtv, settings.rank);
-    out.description += ", " + out.environmentName + " (RTV rank " + std::to_string(settings.rank) + ", " +
-                       std::to_string(settings.bounces) + " bounce" + (settings.bounces == 1 ? "" : "s") +
-                       ")";
+    if (settings.specular > 0.0) {
+        if (progress) progress("glossy radiance transfer, shininess " + formatNumber(settings.shininess));
+        GdmGlossyOptions glossy;
+        glossy.shininess = settings.shininess;
+        const GdmGlossyRtv baked = bakeGdmGlossyRtv(*raw, distance, glossy);
+        out.glossy = compressGdmGlossyRtv(baked, std::min(settings.rank, int(baked.viewCount())));
+        out.glossySpecular = settings.specular;
+    }
+    out.description +=
+        ", " + out.environmentName + " (RTV rank " + std::to_string(settings.rank) + ", " +
+        std::to_string(settings.bounces) + " bounce" + (settings.bounces == 1 ? "" : "s") +
+        (out.glossy ? ", glossy " + formatNumber(settings.specular) + " s " + formatNumber(settings.shininess)
+                    : std::string()) +
+        ")";
 }
 
 }  // namespace

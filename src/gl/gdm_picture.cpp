@@ -44,6 +44,7 @@ PrismShellOptions prepareGdmRenderer(GdmRenderer& renderer, const SceneGdm& gdm,
     renderer.setLighting(scene.lighting);
     if (gdm.rtv && gdm.environment) {
         renderer.setRtv(*gdm.rtv);
+        if (gdm.glossy) renderer.setGlossyRtv(*gdm.glossy, gdm.glossySpecular);
         MacroTransferOptions macro;
         macro.shellThickness = buildPrismShell(mesh, shell).thickness;
         renderer.setMacroTransfer(bakeMacroTransfer(mesh, macro));

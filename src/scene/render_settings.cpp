@@ -210,13 +210,53 @@ void validate(const EnvironmentSettings& e, const GdmSettings& gdm) {
     if (!(std::isfinite(e.intensity) && e.intensity >= 0.0)) outOfRange("env_intensity", ">= 0", e.intensity);
     if (e.bounces < 0 || e.bounces > 8) outOfRange("env_bounces", "in [0, 8]", e.bounces);
     if (e.rank < 1 || e.rank > 48) outOfRange("env_rank", "in [1, 48]", e.rank);
+    if (!(std::isfinite(e.specular) && e.specular >= 0.0)) outOfRange("env_specular", ">= 0", e.specular);
+    if (!(e.shininess >= 0.0 && e.shininess <= 64.0)) outOfRange("env_shininess", "in [0, 64]", e.shininess);
     const EnvironmentSettings defaults;
     if (gdm.source.empty() &&
         (!e.source.empty() || e.rotation != defaults.rotation || e.intensity != defaults.intensity ||
-         e.bounces != defaults.bounces || e.rank != defaults.rank))
-        throw Error(
-            ErrorKind::InvalidInput,
-            "env, env_rotation, env_intensity, env_bounces and env_rank light a GDM render: give a gdm");
+         e.bounces != defaults.bounces || e.rank != defaults.rank || e.specular != defaults.specular ||
+         e.shininess != defaults.shininess))
+        throw Error(ErrorKind::InvalidInput,
+                    "env, env_rotation, env_intensity, env_bounces, env_rank, env_specular and env_shininess "
+                    "light a GDM render: give a gdm");
+}
+
+void applyEnvironmentFlags(const EnvironmentFlags& flags, EnvironmentSettings& settings, bool hasGdm) {
+    if (flags.any() && !hasGdm)
+        throw Error(ErrorKind::Usage,
+                    "--env and its flags light a GDM render: give --gdm (or a scene's \"gdm\") with them");
+    const auto usage = [](const std::string& message) { throw Error(ErrorKind::Usage, message); };
+    if (!flags.source.empty()) settings.source = flags.source;
+    if (flags.rotation) {
+        if (!std::isfinite(*flags.rotation)) usage("--env-rotation must be a finite number of degrees");
+        settings.rotation = *flags.rotation;
+    }
+    if (flags.intensity) {
+        if (!(std::isfinite(*flags.intensity) && *flags.intensity >= 0.0))
+            usage("--env-intensity must be >= 0, got " + formatNumber(*flags.intensity));
+        settings.intensity = *flags.intensity;
+    }
+    if (flags.bounces) {
+        if (*flags.bounces < 0 || *flags.bounces > 8)
+            usage("--env-bounces must be in [0, 8], got " + std::to_string(*flags.bounces));
+        settings.bounces = *flags.bounces;
+    }
+    if (flags.rank) {
+        if (*flags.rank < 1 || *flags.rank > 48)
+            usage("--env-rank must be in [1, 48], got " + std::to_string(*flags.rank));
+        settings.rank = *flags.rank;
+    }
+    if (flags.specular) {
+        if (!(std::isfinite(*flags.specular) && *flags.specular >= 0.0))
+            usage("--env-specular must be >= 0, got " + formatNumber(*flags.specular));
+        settings.specular = *flags.specular;
+    }
+    if (flags.shininess) {
+        if (!(*flags.shininess >= 0.0 && *flags.shininess <= 64.0))
+            usage("--env-shininess must be in [0, 64], got " + formatNumber(*flags.shininess));
+        settings.shininess = *flags.shininess;
+    }
 }
 
 }  // namespace strata

@@ -134,6 +134,8 @@ Scene parseScene(const json& document, const fs::path& source) {
     if (const auto i = reader.number("env_intensity")) environment.intensity = *i;
     if (const auto n = reader.integer("env_bounces", 0, 8)) environment.bounces = static_cast<int>(*n);
     if (const auto n = reader.integer("env_rank", 1, 48)) environment.rank = static_cast<int>(*n);
+    if (const auto v = reader.number("env_specular")) environment.specular = *v;
+    if (const auto v = reader.number("env_shininess")) environment.shininess = *v;
 
     if (const json* cameraJson = reader.object("camera")) {
         ObjectReader cameraReader(*cameraJson, "camera", file);

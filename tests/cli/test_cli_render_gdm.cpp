@@ -146,8 +146,8 @@ TEST_F(CliRenderGdm, TheEnvironmentLightsTheGdm) {
     const std::string weave = " --gdm " + quoted(*dir / "weave");
     const auto render = [&](const std::string& name, const std::string& args, const std::string& keys = "") {
         const fs::path out = *dir / (name + ".png");
-        const auto result =
-            runCli("render " + quoted(environmentScene(dir->path(), name, keys)) + args + " -o " + quoted(out));
+        const auto result = runCli("render " + quoted(environmentScene(dir->path(), name, keys)) + args +
+                                   " -o " + quoted(out));
         return std::pair{result, out};
     };
     // Without an environment and with the light off, the ambient term alone; with one, the environment
@@ -187,6 +187,18 @@ TEST_F(CliRenderGdm, TheEnvironmentLightsTheGdm) {
     const auto [whole, wholePng] = render("whole", weave + " --env sky-sunset --env-rotation 360");
     ASSERT_EQ(whole.exitCode, 0) << whole.output;
     EXPECT_LE(test::maxAbsDiff(readImage(wholePng), one), 1.0 / 255.0 + 1e-6);
+    // A glossy term adds light (white, under the positive overcast sky) and is named in the summary.
+    const auto [matte, mattePng] = render("matte", weave + " --env sky-overcast");
+    ASSERT_EQ(matte.exitCode, 0) << matte.output;
+    const auto [glossy, glossyPng] = render("glossy", weave + " --env sky-overcast --env-specular 0.5");
+    ASSERT_EQ(glossy.exitCode, 0) << glossy.output;
+    EXPECT_NE(glossy.output.find("glossy 0.5 s 8"), std::string::npos) << glossy.output;
+    double added = 0.0;
+    const Image mattePicture = readImage(mattePng), glossyPicture = readImage(glossyPng);
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x)
+            added += double(glossyPicture.at(x, y, 1)) - double(mattePicture.at(x, y, 1));
+    EXPECT_GT(added, 0.0);
     // An EXR, on the asset without its raw GDM (the radiance transfer's visibility is baked again from its
     // solid). The EXR is an input: never overwritten.
     const auto [fromExr, exrPng] =
@@ -220,6 +232,8 @@ TEST_F(CliRenderGdm, ErrorsHaveTheirCodesAndWriteNothing) {
         {weave + " --env sky-clear --env-rank 0" + small, 1, "--env-rank"},
         {weave + " --env sky-clear --env-bounces 9" + small, 1, "--env-bounces"},
         {weave + " --env sky-clear --env-intensity -1" + small, 1, "--env-intensity"},
+        {weave + " --env sky-clear --env-specular -1" + small, 1, "--env-specular"},
+        {weave + " --env sky-clear --env-shininess 100" + small, 1, "--env-shininess"},
         // Invalid input (3): an environment that is neither a built-in sky nor a file.
         {weave + " --env sky-mars" + small, 3, "sky-mars"},
         // Invalid input (3): neither an asset nor a built-in, a rank above the stored one, raw without

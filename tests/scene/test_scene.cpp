@@ -124,24 +124,29 @@ TEST(Scene, GdmKeysMakeAGdmRender) {
 
 TEST(Scene, EnvKeysLightAGdmRender) {
     const Scene scene = parseScene(json::parse(R"({"gdm": "chain", "env": "sky-clear", "env_rotation": -30,
-        "env_intensity": 1.5, "env_bounces": 2, "env_rank": 8})"),
+        "env_intensity": 1.5, "env_bounces": 2, "env_rank": 8, "env_specular": 0.3, "env_shininess": 4})"),
                                    "dir/scene.json");
     EXPECT_EQ(scene.environment.source, "sky-clear");  // no such file: a built-in name, as it is
     EXPECT_EQ(scene.environment.rotation, -30.0);
     EXPECT_EQ(scene.environment.intensity, 1.5);
     EXPECT_EQ(scene.environment.bounces, 2);
     EXPECT_EQ(scene.environment.rank, 8);
+    EXPECT_EQ(scene.environment.specular, 0.3);
+    EXPECT_EQ(scene.environment.shininess, 4.0);
     // The defaults: no environment; one bounce and the paper's four SVD terms when there is one.
     const EnvironmentSettings defaults = parseScene(json::parse(R"({"gdm": "chain"})"), "").environment;
     EXPECT_TRUE(defaults.source.empty());
     EXPECT_EQ(defaults.bounces, 1);
     EXPECT_EQ(defaults.rank, 4);
+    EXPECT_EQ(defaults.specular, 0.0);  // no glossy term unless asked for
 
     expectRejected(R"({"gdm": "weave", "env": ""})", "env");
     expectRejected(R"({"gdm": "weave", "env": "sky-clear", "env_bounces": 9})", "env_bounces");
     expectRejected(R"({"gdm": "weave", "env": "sky-clear", "env_rank": 0})", "env_rank");
     expectRejected(R"({"gdm": "weave", "env": "sky-clear", "env_rank": 49})", "env_rank");
     expectRejected(R"({"gdm": "weave", "env": "sky-clear", "env_intensity": -1})", "env_intensity");
+    expectRejected(R"({"gdm": "weave", "env": "sky-clear", "env_specular": -0.1})", "env_specular");
+    expectRejected(R"({"gdm": "weave", "env": "sky-clear", "env_shininess": 65})", "env_shininess");
     // The environment lights a GDM render only.
     expectRejected(R"({"env": "sky-clear"})", "give a gdm");
     expectRejected(R"({"env_rotation": 90})", "give a gdm");

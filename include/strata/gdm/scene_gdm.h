@@ -7,6 +7,7 @@
 #include "strata/environment/spherical_harmonics.h"
 #include "strata/gdm/gdm_asset.h"
 #include "strata/gdm/gdm_rtv.h"
+#include "strata/gdm/gdm_rtv_glossy.h"
 #include "strata/gdm/gdm_svd.h"
 #include "strata/scene/scene.h"
 
@@ -33,6 +34,10 @@ struct SceneGdm {
     // With scene.environment.source set: the RTV (bakeGdmRtv with the scene's bounces, compressed to its
     // rank) and the environment's SH in world space, turned and scaled (turnEnvironment).
     std::optional<GdmRtvSvd> rtv;
+    // With scene.environment.specular > 0: the glossy RTV (bakeGdmGlossyRtv at the scene's shininess,
+    // compressed to the scene's rank) and its specular coefficient.
+    std::optional<GdmGlossyRtvSvd> glossy;
+    double glossySpecular = 0.0;
     std::optional<ShColor> environment;
     std::string environmentName;  // "sky-overcast", the EXR's path
     ShColor environmentSh{};      // the environment's own SH (unturned, unscaled), for turning it again
@@ -51,7 +56,9 @@ ShColor turnEnvironment(const ShColor& world, double degrees, double intensity);
 // RTV: its visibility from the raw GDM, or, for an asset without one, from a GDM baked again from the
 // asset's solid (solid.obj) at the asset's dims (Error(InvalidInput) when it has neither); the signed
 // distance from the asset's (or bakeGdmDistance of the solid); the albedo from its albedo volume
-// (gdmVolumeAlbedo), or 0.7 grey (the renderer's) without one.
+// (gdmVolumeAlbedo), or 0.7 grey (the renderer's) without one; with env_specular > 0 the glossy RTV too (its
+// uncompressed form, 16 floats per voxel and view, is held while it is compressed: 1 GiB at 64 x 64 x 16
+// voxels and 256 views).
 SceneGdm loadSceneGdm(const Scene& scene, const SceneProgress& progress = {});
 
 }  // namespace strata

@@ -120,7 +120,26 @@ struct EnvironmentSettings {
     double intensity = 1.0;  // its radiance's scale, finite and >= 0
     int bounces = 1;         // the RTV's interreflections, [0, 8]
     int rank = 4;            // the RTV's SVD terms, [1, 48] (the paper keeps 4; 48 loses nothing)
+    // The glossy term (gdm_rtv_glossy.h): its specular coefficient, >= 0 (0: none, nothing baked), and the
+    // Phong lobe's shininess, [0, 64] (band 3 holds a broad lobe: 8 or less).
+    double specular = 0.0;
+    double shininess = 8.0;
 };
+
+// The environment's command-line flags, as `strata render` and `strata-view` take them (--env,
+// --env-rotation, --env-intensity, --env-bounces, --env-rank, --env-specular, --env-shininess); unset: the
+// scene's value.
+struct EnvironmentFlags {
+    std::string source;
+    std::optional<double> rotation, intensity, specular, shininess;
+    std::optional<int> bounces, rank;
+    bool any() const {
+        return !source.empty() || rotation || intensity || specular || shininess || bounces || rank;
+    }
+};
+// Applies the flags that are set to `settings`, each range checked with the flag named in the message
+// (Error(Usage)); Error(Usage) as well when any is set and `hasGdm` is false (they light a GDM render).
+void applyEnvironmentFlags(const EnvironmentFlags& flags, EnvironmentSettings& settings, bool hasGdm);
 
 // Blinn-Phong with one point light (paper appendix: ambient, diffuse, specular, shininess).
 struct Lighting {
