@@ -3,6 +3,8 @@
 #include "strata/core/error.h"
 #include "strata/core/parallel.h"
 
+#include "rtv_common.h"
+
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <glm/geometric.hpp>
@@ -17,91 +19,17 @@
 namespace strata {
 namespace {
 
+using namespace detail;
+
 constexpr int kCoefficients = kShCount * 3;  // floats per voxel
 
-int wrapIndex(int i, int n) {
-    const int r = i % n;
-    return r < 0 ? r + n : r;
-}
-
-// The trilinear stencil around an isotropic-frame point with the corners inside the solid left out.
-struct Stencil {
-    std::array<std::size_t, 8> voxel{};
-    std::array<double, 8> weight{};
-    int count = 0;
-};
-
-Stencil stencilAt(const GdmRtv& rtv, const glm::dvec3& point) {
-    const GdmDims& d = rtv.dims;
-    const double fx = point.x * d.nx - 0.5, fy = point.y * d.ny - 0.5;
-    const double fz = std::clamp(point.z / rtv.height * d.nz - 0.5, 0.0, double(d.nz - 1));
-    const double x0 = std::floor(fx), y0 = std::floor(fy), z0 = std::floor(fz);
-    const double tx = fx - x0, ty = fy - y0, tz = fz - z0;
-    const int i0 = int(x0), j0 = int(y0), k0 = int(z0);
-    Stencil s;
-    double total = 0.0;
-    for (int c = 0; c < 8; ++c) {
-        const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
-        const double w = (di ? tx : 1.0 - tx) * (dj ? ty : 1.0 - ty) * (dk ? tz : 1.0 - tz);
-        if (w <= 0.0) continue;
-        const std::size_t v =
-            rtv.voxelIndex(wrapIndex(i0 + di, d.nx), wrapIndex(j0 + dj, d.ny), std::min(k0 + dk, d.nz - 1));
-        // Inside voxels hold 0, not the surface's transfer: mixing them in would darken every hit.
-        if (rtv.distance[v] < 0.0f) continue;
-        s.voxel[std::size_t(s.count)] = v;
-        s.weight[std::size_t(s.count)] = w;
-        ++s.count;
-        total += w;
-    }
-    if (s.count == 0) {
-        // Every corner inside: a surface point in a cell whose corners all lie inside (a feature thinner
-        // than a voxel). The nearest outside voxel centre of the 4 x 4 x 4 block around the cell stands in.
-        double best = std::numeric_limits<double>::infinity();
-        for (int dk = -1; dk <= 2; ++dk)
-            for (int dj = -1; dj <= 2; ++dj)
-                for (int di = -1; di <= 2; ++di) {
-                    const int kk = k0 + dk;
-                    if (kk < 0 || kk >= d.nz) continue;
-                    const std::size_t v =
-                        rtv.voxelIndex(wrapIndex(i0 + di, d.nx), wrapIndex(j0 + dj, d.ny), kk);
-                    if (rtv.distance[v] < 0.0f) continue;
-                    const glm::dvec3 offset((di - tx) / d.nx, (dj - ty) / d.ny,
-                                            (dk - tz) * rtv.height / d.nz);
-                    const double length = glm::dot(offset, offset);
-                    if (length < best) {
-                        best = length;
-                        s.voxel[0] = v;
-                        s.weight[0] = 1.0;
-                        s.count = 1;
-                        total = 1.0;
-                    }
-                }
-    }
-    for (int c = 0; c < s.count; ++c) s.weight[std::size_t(c)] /= total;
-    return s;
-}
-
 // Adds scale * (the stencil's transfer) to out[0 .. kCoefficients).
-void accumulate(const std::vector<float>& transfer, const Stencil& s, double scale, double* out) {
+void accumulate(const std::vector<float>& transfer, const RtvStencil& s, double scale, double* out) {
     for (int c = 0; c < s.count; ++c) {
         const float* t = transfer.data() + s.voxel[std::size_t(c)] * kCoefficients;
         const double w = scale * s.weight[std::size_t(c)];
         for (int n = 0; n < kCoefficients; ++n) out[n] += w * double(t[n]);
     }
-}
-
-glm::dvec3 distanceNormal(const GdmRtv& rtv, int i, int j, int k) {
-    const GdmDims& d = rtv.dims;
-    const auto at = [&](int a, int b, int c) {
-        return double(rtv.distance[rtv.voxelIndex(wrapIndex(a, d.nx), wrapIndex(b, d.ny), c)]);
-    };
-    const int kLo = std::max(k - 1, 0), kHi = std::min(k + 1, d.nz - 1);
-    const double dz = rtv.height / d.nz;
-    const glm::dvec3 g((at(i + 1, j, k) - at(i - 1, j, k)) * d.nx / 2.0,
-                       (at(i, j + 1, k) - at(i, j - 1, k)) * d.ny / 2.0,
-                       kHi > kLo ? (at(i, j, kHi) - at(i, j, kLo)) / (double(kHi - kLo) * dz) : 0.0);
-    const double length = glm::length(g);
-    return length > 0.0 ? g / length : glm::dvec3(0.0, 0.0, 1.0);
 }
 
 }  // namespace
@@ -156,7 +84,7 @@ GdmRtv bakeGdmRtv(const Gdm& gdm, const std::vector<float>& distance, const GdmA
         for (int i = 0; i < dims.nx; ++i) {
             const std::size_t v = rtv.voxelIndex(i, j, k);
             if (distance[v] < 0.0f) continue;
-            normal[v] = distanceNormal(rtv, i, j, k);
+            normal[v] = rtvDistanceNormal(rtv.dims, rtv.height, rtv.distance, i, j, k);
             // The albedo of the surface point the voxel stands for, not of the empty space at its centre
             // (a texture's albedo off the surface is whatever its volume holds there): the centre moved
             // along -n by its distance, wrapped in u, v and clamped to the slab.
@@ -220,8 +148,8 @@ GdmRtv bakeGdmRtv(const Gdm& gdm, const std::vector<float>& distance, const GdmA
                     glm::dvec3 q = p + std::max(double(d) - backOff, 0.0) * w;
                     q.x -= std::floor(q.x);
                     q.y -= std::floor(q.y);
-                    accumulate(previous, stencilAt(rtv, q), cosine * solidAngle[std::size_t(n)],
-                               gathered.data());
+                    accumulate(previous, rtvStencilAt(rtv.dims, rtv.height, rtv.distance, q),
+                               cosine * solidAngle[std::size_t(n)], gathered.data());
                 }
                 float* out = rtv.transfer.data() + v * kCoefficients;
                 const float* first = direct.data() + v * kCoefficients;
@@ -241,7 +169,7 @@ ShColor gdmRtvTransferAt(const GdmRtv& rtv, const glm::dvec3& point) {
     glm::dvec3 q = point;
     q.x -= std::floor(q.x);
     q.y -= std::floor(q.y);
-    accumulate(rtv.transfer, stencilAt(rtv, q), 1.0, sum.data());
+    accumulate(rtv.transfer, rtvStencilAt(rtv.dims, rtv.height, rtv.distance, q), 1.0, sum.data());
     ShColor out{};
     for (int k = 0; k < kShCount; ++k)
         out[std::size_t(k)] =

@@ -4,6 +4,8 @@
 #include "strata/core/parallel.h"
 #include "strata/environment/sh_rotation.h"
 
+#include "rtv_common.h"
+
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <glm/geometric.hpp>
@@ -19,15 +21,12 @@
 namespace strata {
 namespace {
 
+using namespace detail;
+
 constexpr double kPi = std::numbers::pi;
 // The lobe quadrature: Gauss-Legendre nodes in z = cos(theta) over [0, 1] times uniform azimuths.
 constexpr int kLobeNodes = 64;
 constexpr int kLobeAzimuths = 256;
-
-int wrapIndex(int i, int n) {
-    const int r = i % n;
-    return r < 0 ? r + n : r;
-}
 
 void checkShininess(double shininess, const std::string& what) {
     if (!(shininess >= 0.0 && shininess <= GdmGlossyOptions::kMaxShininess))
@@ -169,22 +168,6 @@ struct LobeTable {
     }
 };
 
-glm::dvec3 distanceNormal(const GdmDims& d, double height, const std::vector<float>& distance, int i, int j,
-                          int k) {
-    const auto at = [&](int a, int b, int c) {
-        return double(distance[std::size_t(wrapIndex(a, d.nx)) +
-                               std::size_t(d.nx) *
-                                   (std::size_t(wrapIndex(b, d.ny)) + std::size_t(d.ny) * std::size_t(c))]);
-    };
-    const int kLo = std::max(k - 1, 0), kHi = std::min(k + 1, d.nz - 1);
-    const double dz = height / d.nz;
-    const glm::dvec3 g((at(i + 1, j, k) - at(i - 1, j, k)) * d.nx / 2.0,
-                       (at(i, j + 1, k) - at(i, j - 1, k)) * d.ny / 2.0,
-                       kHi > kLo ? (at(i, j, kHi) - at(i, j, kLo)) / (double(kHi - kLo) * dz) : 0.0);
-    const double length = glm::length(g);
-    return length > 0.0 ? g / length : glm::dvec3(0.0, 0.0, 1.0);
-}
-
 // The direction samples: vectors, exact cell solid angles and basis values (as bakeGdmRtv).
 struct Directions {
     std::vector<glm::dvec3> dir;
@@ -214,63 +197,6 @@ Matrix16 shadowedMatrix(const Gdm& gdm, const Directions& directions, std::size_
         m.selfadjointView<Eigen::Lower>().rankUpdate(y, directions.solidAngle[n]);
     }
     return m.selfadjointView<Eigen::Lower>();
-}
-
-// The trilinear stencil of gdm_rtv.cpp (the same rule: inside corners left out, all-inside cells read the
-// nearest outside voxel centre of the 4 x 4 x 4 block around the cell).
-struct Stencil {
-    std::array<std::size_t, 8> voxel{};
-    std::array<double, 8> weight{};
-    int count = 0;
-};
-
-Stencil stencilAt(const GdmDims& d, double height, const std::vector<float>& distance,
-                  const glm::dvec3& point) {
-    const auto index = [&](int i, int j, int k) {
-        return std::size_t(i) + std::size_t(d.nx) * (std::size_t(j) + std::size_t(d.ny) * std::size_t(k));
-    };
-    const double px = point.x - std::floor(point.x), py = point.y - std::floor(point.y);
-    const double fx = px * d.nx - 0.5, fy = py * d.ny - 0.5;
-    const double fz = std::clamp(point.z / height * d.nz - 0.5, 0.0, double(d.nz - 1));
-    const double x0 = std::floor(fx), y0 = std::floor(fy), z0 = std::floor(fz);
-    const double tx = fx - x0, ty = fy - y0, tz = fz - z0;
-    const int i0 = int(x0), j0 = int(y0), k0 = int(z0);
-    Stencil s;
-    double total = 0.0;
-    for (int c = 0; c < 8; ++c) {
-        const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
-        const double w = (di ? tx : 1.0 - tx) * (dj ? ty : 1.0 - ty) * (dk ? tz : 1.0 - tz);
-        if (w <= 0.0) continue;
-        const std::size_t v =
-            index(wrapIndex(i0 + di, d.nx), wrapIndex(j0 + dj, d.ny), std::min(k0 + dk, d.nz - 1));
-        if (distance[v] < 0.0f) continue;
-        s.voxel[std::size_t(s.count)] = v;
-        s.weight[std::size_t(s.count)] = w;
-        ++s.count;
-        total += w;
-    }
-    if (s.count == 0) {
-        double best = std::numeric_limits<double>::infinity();
-        for (int dk = -1; dk <= 2; ++dk)
-            for (int dj = -1; dj <= 2; ++dj)
-                for (int di = -1; di <= 2; ++di) {
-                    const int kk = k0 + dk;
-                    if (kk < 0 || kk >= d.nz) continue;
-                    const std::size_t v = index(wrapIndex(i0 + di, d.nx), wrapIndex(j0 + dj, d.ny), kk);
-                    if (distance[v] < 0.0f) continue;
-                    const glm::dvec3 offset((di - tx) / d.nx, (dj - ty) / d.ny, (dk - tz) * height / d.nz);
-                    const double length = glm::dot(offset, offset);
-                    if (length < best) {
-                        best = length;
-                        s.voxel[0] = v;
-                        s.weight[0] = 1.0;
-                        s.count = 1;
-                        total = 1.0;
-                    }
-                }
-    }
-    for (int c = 0; c < s.count; ++c) s.weight[std::size_t(c)] /= total;
-    return s;
 }
 
 // The bilinear view stencil: 4 views and weights.
@@ -304,7 +230,7 @@ ViewStencil viewStencil(const GdmDims& d, const glm::dvec3& direction) {
 template <class Value>
 ShVector lookup(const GdmDims& d, double height, const std::vector<float>& distance, const glm::dvec3& point,
                 const glm::dvec3& view, const Value& value) {
-    const Stencil s = stencilAt(d, height, distance, point);
+    const RtvStencil s = rtvStencilAt(d, height, distance, point);
     const ViewStencil vs = viewStencil(d, view);
     ShVector out{};
     for (int c = 0; c < s.count; ++c)
@@ -419,7 +345,7 @@ GdmGlossyRtv bakeGdmGlossyRtv(const Gdm& gdm, const std::vector<float>& distance
                 std::size_t(i) +
                 std::size_t(dims.nx) * (std::size_t(j) + std::size_t(dims.ny) * std::size_t(k));
             if (distance[v] < 0.0f) continue;
-            const glm::dvec3 n = distanceNormal(dims, gdm.height, distance, i, j, k);
+            const glm::dvec3 n = rtvDistanceNormal(dims, gdm.height, distance, i, j, k);
             const auto store = [&](std::size_t view, const double* g) {
                 for (int q = 0; q < kShCount; ++q)
                     rtv.transfer[(std::size_t(q) * voxels + v) * views + view] = float(g[q]);
