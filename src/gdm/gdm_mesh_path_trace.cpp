@@ -31,21 +31,8 @@ constexpr double kSurfaceOffsetTiles = 1e-5;
 // cross the mesh's triangle.
 constexpr double kBaseBand = 2e-5;
 
-// The albedo's texture point of an unwrapped hit position (u, v, z): (u mod 1, v mod 1, z / H in [0, 1]).
-glm::dvec3 texturePoint(const glm::dvec3& texture, double height) {
-    return {texture.x - std::floor(texture.x), texture.y - std::floor(texture.y),
-            std::clamp(texture.z / height, 0.0, 1.0)};
-}
-
 void checkOptions(const GdmMeshPathTraceOptions& options, const std::string& what) {
-    if (options.samplesPerPixel < 1 || options.samplesPerPixel > GdmPathTraceOptions::kMaxSamplesPerPixel)
-        throw Error(ErrorKind::InvalidInput,
-                    what + ": samplesPerPixel " + std::to_string(options.samplesPerPixel) +
-                        " is outside [1, " + std::to_string(GdmPathTraceOptions::kMaxSamplesPerPixel) + "]");
-    if (options.bounces < 0 || options.bounces > GdmPathTraceOptions::kMaxBounces)
-        throw Error(ErrorKind::InvalidInput, what + ": bounces " + std::to_string(options.bounces) +
-                                                 " is outside [0, " +
-                                                 std::to_string(GdmPathTraceOptions::kMaxBounces) + "]");
+    checkPathCounts(options.samplesPerPixel, options.bounces, what);
     if (!(options.chordTolerance > 0.0 && options.chordTolerance <= 1.0))
         throw Error(ErrorKind::InvalidInput,
                     what + ": chordTolerance " + formatNumber(options.chordTolerance) + " is outside (0, 1]");
@@ -93,7 +80,7 @@ GdmPathTraceImages pathTraceGdmMesh(const SolidMesh& solid, const Mesh& mesh, co
             images.mask.at(i, j) = 1.0f;
             // A cut face on a base faces into the mesh, which is opaque and black.
             if (options.macroOcclusion && first.kind == WarpedFaceKind::Base) continue;
-            const glm::dvec3 firstAlbedo = albedo(texturePoint(first.texture, H));
+            const glm::dvec3 firstAlbedo = albedo(pathTexturePoint(first.texture, H));
             const Vertex start{camera.eye + first.t * view, first.normal, first.texture.z, first.prism};
             glm::dvec3 sum(0.0);
             for (int sample = 0; sample < options.samplesPerPixel; ++sample) {
@@ -118,7 +105,7 @@ GdmPathTraceImages pathTraceGdmMesh(const SolidMesh& solid, const Mesh& mesh, co
                     if (options.macroOcclusion && hit.kind == WarpedFaceKind::Base) break;
                     if (hit.kind == WarpedFaceKind::Solid && glm::dot(hit.normal, direction) >= 0.0) break;
                     vertex = {origin + hit.t * direction, hit.normal, hit.texture.z, hit.prism};
-                    weight *= albedo(texturePoint(hit.texture, H));
+                    weight *= albedo(pathTexturePoint(hit.texture, H));
                 }
             }
             const glm::dvec3 radiance = sum / double(options.samplesPerPixel);

@@ -35,20 +35,8 @@ constexpr double kSurfaceOffset = 1e-5;
 // The glossy term's own random stream: the seed xor this constant.
 constexpr std::uint64_t kGlossyStream = 0x676c6f7373790001ull;
 
-glm::dvec3 texturePoint(const glm::dvec3& point, double height) {
-    return {point.x - std::floor(point.x), point.y - std::floor(point.y),
-            std::clamp(point.z / height, 0.0, 1.0)};
-}
-
 void checkOptions(const GdmPathTraceOptions& options, const std::string& what) {
-    if (options.samplesPerPixel < 1 || options.samplesPerPixel > GdmPathTraceOptions::kMaxSamplesPerPixel)
-        throw Error(ErrorKind::InvalidInput,
-                    what + ": samplesPerPixel " + std::to_string(options.samplesPerPixel) +
-                        " is outside [1, " + std::to_string(GdmPathTraceOptions::kMaxSamplesPerPixel) + "]");
-    if (options.bounces < 0 || options.bounces > GdmPathTraceOptions::kMaxBounces)
-        throw Error(ErrorKind::InvalidInput, what + ": bounces " + std::to_string(options.bounces) +
-                                                 " is outside [0, " +
-                                                 std::to_string(GdmPathTraceOptions::kMaxBounces) + "]");
+    checkPathCounts(options.samplesPerPixel, options.bounces, what);
     if (!(std::isfinite(options.specular) && options.specular >= 0.0))
         throw Error(ErrorKind::InvalidInput,
                     what + ": specular " + formatNumber(options.specular) + " is not finite and >= 0");
@@ -81,7 +69,7 @@ GdmPathTraceImages pathTraceGdm(const SolidMesh& solid, const GdmAlbedo& albedo,
             const glm::dvec3 view = pixelRayDirection(camera, width, height, i + 0.5, j + 0.5);
             const SceneHit first = firstSceneHit(scene, context, camera.eye, view, shell);
             if (!first.hit) continue;
-            const glm::dvec3 firstAlbedo = albedo(texturePoint(first.point, shell));
+            const glm::dvec3 firstAlbedo = albedo(pathTexturePoint(first.point, shell));
             glm::dvec3 sum(0.0);
             for (int sample = 0; sample < options.samplesPerPixel; ++sample) {
                 PathRandom random(options.seed, i, j, sample);
@@ -110,7 +98,7 @@ GdmPathTraceImages pathTraceGdm(const SolidMesh& solid, const GdmAlbedo& albedo,
                     if (glm::dot(faceNormal, direction) >= 0.0) break;
                     point = origin + double(distance) * direction;
                     normal = faceNormal;
-                    weight *= albedo(texturePoint(point, shell));
+                    weight *= albedo(pathTexturePoint(point, shell));
                 }
             }
             glm::dvec3 radiance = sum / double(options.samplesPerPixel);

@@ -5,10 +5,14 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "strata/core/error.h"
+#include "strata/gdm/gdm_path_trace.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <string>
 
 namespace strata::detail {
 
@@ -66,6 +70,25 @@ inline glm::dvec3 phongDirection(const glm::dvec3& r, double shininess, double u
     const double sine = std::sqrt(std::max(1.0 - cosine * cosine, 0.0));
     const double phi = 2.0 * std::numbers::pi * u2;
     return glm::normalize(sine * std::cos(phi) * t + sine * std::sin(phi) * s + cosine * r);
+}
+
+// The albedo's texture point of an unwrapped hit position (u, v, z): (u mod 1, v mod 1, z / H in [0, 1]).
+inline glm::dvec3 pathTexturePoint(const glm::dvec3& point, double height) {
+    return {point.x - std::floor(point.x), point.y - std::floor(point.y),
+            std::clamp(point.z / height, 0.0, 1.0)};
+}
+
+// Throws Error(InvalidInput) naming `what` and the value for paths per pixel or bounces out of range
+// (GdmPathTraceOptions' limits).
+inline void checkPathCounts(int samplesPerPixel, int bounces, const std::string& what) {
+    if (samplesPerPixel < 1 || samplesPerPixel > GdmPathTraceOptions::kMaxSamplesPerPixel)
+        throw Error(ErrorKind::InvalidInput,
+                    what + ": samplesPerPixel " + std::to_string(samplesPerPixel) + " is outside [1, " +
+                        std::to_string(GdmPathTraceOptions::kMaxSamplesPerPixel) + "]");
+    if (bounces < 0 || bounces > GdmPathTraceOptions::kMaxBounces)
+        throw Error(ErrorKind::InvalidInput, what + ": bounces " + std::to_string(bounces) +
+                                                 " is outside [0, " +
+                                                 std::to_string(GdmPathTraceOptions::kMaxBounces) + "]");
 }
 
 }  // namespace strata::detail
