@@ -306,20 +306,173 @@ std::vector<double> gdmShadowedTransferMatrix(const Gdm& gdm, int i, int j, int 
     return out;
 }
 
+namespace {
+
+// The glossy bake's per-voxel work (bakeGdmGlossyRtv's contract), shared by the whole-volume bake and the
+// chunked one (bakeCompressedGdmGlossyRtv), so that both give the same floats.
+class GlossyBaker {
+public:
+    GlossyBaker(const Gdm& gdm, const std::vector<float>& distance, const GdmGlossyOptions& options)
+        : mGdm(gdm),
+          mDistance(distance),
+          mOptions(options),
+          mDirections(gdm.dims),
+          // The lobe table only for G = M b (one empty row otherwise).
+          mTable(options.shininess, options.method == GdmGlossyMethod::DirectSum ? 1 : kGdmGlossyLobeAngles),
+          mScale((options.shininess + 2.0) / (2.0 * kPi)) {
+        const GdmDims& dims = gdm.dims;
+        for (int t = 0; t < dims.ntheta / 2; ++t)
+            for (int s = 0; s < dims.nphi; ++s) mViews.push_back(gdmGlossyView(dims, t, s));
+    }
+
+    // Throws as bakeGdmGlossyRtv for its arguments.
+    static void check(const Gdm& gdm, const std::vector<float>& distance, const GdmGlossyOptions& options,
+                      const std::string& what) {
+        checkGdm(gdm, what);
+        const GdmDims& dims = gdm.dims;
+        if (dims.ntheta < 2)
+            throw Error(ErrorKind::InvalidInput,
+                        what + ": Ntheta " + std::to_string(dims.ntheta) + " < 2 leaves no view row");
+        if (distance.size() != dims.voxelCount())
+            throw Error(ErrorKind::InvalidInput, what + ": the distance volume has " +
+                                                     std::to_string(distance.size()) + " voxels, the GDM " +
+                                                     std::to_string(dims.voxelCount()));
+        checkShininess(options.shininess, what);
+    }
+
+    std::size_t viewCount() const { return mViews.size(); }
+
+    // G of voxel v (x fastest): store(view, g) with the 16 coefficients g for each view; nothing for a voxel
+    // inside the solid (its rows stay 0).
+    template <class Store>
+    void voxel(std::size_t v, const Store& store) const {
+        const GdmDims& dims = mGdm.dims;
+        if (mDistance[v] < 0.0f) return;
+        const std::size_t nx = std::size_t(dims.nx), ny = std::size_t(dims.ny);
+        const int i = int(v % nx), j = int((v / nx) % ny), k = int(v / (nx * ny));
+        const glm::dvec3 n = rtvDistanceNormal(dims, mGdm.height, mDistance, i, j, k);
+        const std::size_t views = mViews.size();
+        if (mOptions.method == GdmGlossyMethod::DirectSum) {
+            // G_k = sum over the visible direction samples of Y_k f_s max(n . w, 0) dOmega.
+            std::vector<std::size_t> visible;
+            for (std::size_t q = 0; q < dims.directionCount(); ++q)
+                if (mDirections.dir[q].z > 0.0 && mGdm.values[v * dims.directionCount() + q] == kGdmMiss &&
+                    glm::dot(n, mDirections.dir[q]) > 0.0)
+                    visible.push_back(q);
+            for (std::size_t view = 0; view < views; ++view) {
+                const glm::dvec3& wo = mViews[view];
+                const glm::dvec3 mirror = 2.0 * glm::dot(n, wo) * n - wo;
+                ShVector g{};
+                for (const std::size_t q : visible) {
+                    const glm::dvec3& w = mDirections.dir[q];
+                    const double f = lobePower(glm::dot(w, mirror), mOptions.shininess);
+                    if (f == 0.0) continue;
+                    const double weight = mScale * f * glm::dot(n, w) * mDirections.solidAngle[q];
+                    for (int c = 0; c < kShCount; ++c)
+                        g[std::size_t(c)] += weight * mDirections.basis[q][std::size_t(c)];
+                }
+                store(view, g.data());
+            }
+            return;
+        }
+        // G = M b = (M R) b_n: R (the ShRotation of the normal's frame) takes b from the normal's frame,
+        // where the table holds it, to the tangent frame.
+        const glm::dmat3 frame = normalFrame(n);
+        const ShRotation rotation(frame);
+        Matrix16 r;
+        for (int c = 0; c < kShCount; ++c) {
+            ShVector e{};
+            e[std::size_t(c)] = 1.0;
+            const ShVector column = rotation.apply(e);
+            for (int q = 0; q < kShCount; ++q) r(q, c) = column[std::size_t(q)];
+        }
+        const Matrix16 m = shadowedMatrix(mGdm, mDirections, v) * r;
+        for (std::size_t view = 0; view < views; ++view) {
+            double angle = 0.0, azimuth = 0.0;
+            viewAngles(frame, mViews[view], angle, azimuth);
+            const ShVector b = turnAboutZ(mTable.at(angle), azimuth);
+            const Eigen::Map<const Eigen::Matrix<double, kShCount, 1>> bv(b.data());
+            const Eigen::Matrix<double, kShCount, 1> g = m * bv;
+            store(view, g.data());
+        }
+    }
+
+private:
+    const Gdm& mGdm;
+    const std::vector<float>& mDistance;
+    GdmGlossyOptions mOptions;
+    Directions mDirections;
+    LobeTable mTable;
+    double mScale;
+    std::vector<glm::dvec3> mViews;
+};
+
+using MatrixD = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic>;
+using RowsF = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+// Rows (voxels) of one coefficient's matrix converted to double at a time; the chunked bake bakes this many
+// voxels at a time, so that both paths sum the Gram matrix in the same order.
+constexpr std::size_t kChunk = 2048;
+
+// An SVD with its sizes set and its maps zero, for `rank` terms.
+GdmGlossyRtvSvd emptySvd(const GdmDims& dims, double height, double shininess, int rank, std::size_t views,
+                         const std::vector<float>& distance) {
+    GdmGlossyRtvSvd svd;
+    svd.dims = dims;
+    svd.height = height;
+    svd.shininess = shininess;
+    svd.rank = rank;
+    svd.viewCount = views;
+    svd.distance = distance;
+    const std::size_t voxels = dims.voxelCount();
+    svd.weights.assign(std::size_t(kShCount) * voxels * std::size_t(rank), 0.0f);
+    svd.basis.assign(std::size_t(kShCount) * std::size_t(rank) * views, 0.0f);
+    svd.singularValues.assign(std::size_t(kShCount) * views, 0.0);
+    return svd;
+}
+
+// Adds rows^T rows to the lower half of `gram`.
+void addToGram(MatrixD& gram, const Eigen::Map<const RowsF>& rows) {
+    const MatrixD chunk = rows.cast<double>();
+    gram.selfadjointView<Eigen::Lower>().rankUpdate(chunk.transpose());
+}
+
+// Coefficient k's singular values and E_k from its Gram matrix (lower half summed), into `svd`; returns
+// E_k^T (views x rank) for the weights.
+MatrixD finishBasis(MatrixD& gram, int k, GdmGlossyRtvSvd& svd) {
+    const Eigen::Index columns = gram.cols();
+    const std::size_t views = std::size_t(columns);
+    gram = gram.selfadjointView<Eigen::Lower>();
+    const Eigen::SelfAdjointEigenSolver<MatrixD> solver(gram);
+    // Ascending eigenvalues; the singular values are their square roots, descending.
+    for (Eigen::Index n = 0; n < columns; ++n)
+        svd.singularValues[std::size_t(k) * views + std::size_t(n)] =
+            std::sqrt(std::max(solver.eigenvalues()(columns - 1 - n), 0.0));
+    const int rank = svd.rank;
+    MatrixD basis = solver.eigenvectors().rightCols(rank).rowwise().reverse();  // views x rank
+    for (int r = 0; r < rank; ++r)
+        for (std::size_t v = 0; v < views; ++v)
+            svd.basis[(std::size_t(k) * std::size_t(rank) + std::size_t(r)) * views + v] =
+                float(basis(Eigen::Index(v), r));
+    return basis;
+}
+
+// W_k's rows from `from` on: rows (of A_k) times E_k^T.
+void storeWeights(const Eigen::Map<const RowsF>& rows, const MatrixD& basis, int k, std::size_t from,
+                  GdmGlossyRtvSvd& svd) {
+    const std::size_t voxels = svd.dims.voxelCount(), rank = std::size_t(svd.rank);
+    const MatrixD w = rows.cast<double>() * basis;
+    for (Eigen::Index row = 0; row < rows.rows(); ++row)
+        for (std::size_t r = 0; r < rank; ++r)
+            svd.weights[(std::size_t(k) * voxels + from + std::size_t(row)) * rank + r] =
+                float(w(row, Eigen::Index(r)));
+}
+
+}  // namespace
+
 GdmGlossyRtv bakeGdmGlossyRtv(const Gdm& gdm, const std::vector<float>& distance,
                               const GdmGlossyOptions& options) {
-    const std::string what = "GDM glossy RTV";
-    checkGdm(gdm, what);
+    GlossyBaker::check(gdm, distance, options, "GDM glossy RTV");
     const GdmDims& dims = gdm.dims;
-    if (dims.ntheta < 2)
-        throw Error(ErrorKind::InvalidInput,
-                    what + ": Ntheta " + std::to_string(dims.ntheta) + " < 2 leaves no view row");
-    if (distance.size() != dims.voxelCount())
-        throw Error(ErrorKind::InvalidInput, what + ": the distance volume has " +
-                                                 std::to_string(distance.size()) + " voxels, the GDM " +
-                                                 std::to_string(dims.voxelCount()));
-    checkShininess(options.shininess, what);
-
     GdmGlossyRtv rtv;
     rtv.dims = dims;
     rtv.height = gdm.height;
@@ -327,75 +480,66 @@ GdmGlossyRtv bakeGdmGlossyRtv(const Gdm& gdm, const std::vector<float>& distance
     rtv.distance = distance;
     const std::size_t voxels = dims.voxelCount(), views = rtv.viewCount();
     rtv.transfer.assign(std::size_t(kShCount) * voxels * views, 0.0f);
-
-    const Directions directions(dims);
-    const bool direct = options.method == GdmGlossyMethod::DirectSum;
-    // The lobe table only for G = M b (one empty row otherwise).
-    const LobeTable table(options.shininess, direct ? 1 : kGdmGlossyLobeAngles);
-    std::vector<glm::dvec3> viewDirections;
-    for (int t = 0; t < rtv.viewRows(); ++t)
-        for (int s = 0; s < dims.nphi; ++s) viewDirections.push_back(gdmGlossyView(dims, t, s));
-    const double scale = (options.shininess + 2.0) / (2.0 * kPi);
-
+    const GlossyBaker baker(gdm, distance, options);
     parallelFor(0, dims.nz * dims.ny, [&](int row) {
-        const int j = row % dims.ny, k = row / dims.ny;
-        std::vector<std::size_t> visible;
-        for (int i = 0; i < dims.nx; ++i) {
-            const std::size_t v =
-                std::size_t(i) +
-                std::size_t(dims.nx) * (std::size_t(j) + std::size_t(dims.ny) * std::size_t(k));
-            if (distance[v] < 0.0f) continue;
-            const glm::dvec3 n = rtvDistanceNormal(dims, gdm.height, distance, i, j, k);
-            const auto store = [&](std::size_t view, const double* g) {
+        const std::size_t first = std::size_t(row) * std::size_t(dims.nx);
+        for (std::size_t v = first; v < first + std::size_t(dims.nx); ++v)
+            baker.voxel(v, [&](std::size_t view, const double* g) {
                 for (int q = 0; q < kShCount; ++q)
                     rtv.transfer[(std::size_t(q) * voxels + v) * views + view] = float(g[q]);
-            };
-            if (direct) {
-                // G_k = sum over the visible direction samples of Y_k f_s max(n . w, 0) dOmega.
-                visible.clear();
-                for (std::size_t q = 0; q < dims.directionCount(); ++q)
-                    if (directions.dir[q].z > 0.0 && gdm.values[v * dims.directionCount() + q] == kGdmMiss &&
-                        glm::dot(n, directions.dir[q]) > 0.0)
-                        visible.push_back(q);
-                for (std::size_t view = 0; view < views; ++view) {
-                    const glm::dvec3& wo = viewDirections[view];
-                    const glm::dvec3 mirror = 2.0 * glm::dot(n, wo) * n - wo;
-                    ShVector g{};
-                    for (const std::size_t q : visible) {
-                        const glm::dvec3& w = directions.dir[q];
-                        const double f = lobePower(glm::dot(w, mirror), options.shininess);
-                        if (f == 0.0) continue;
-                        const double weight = scale * f * glm::dot(n, w) * directions.solidAngle[q];
-                        for (int c = 0; c < kShCount; ++c)
-                            g[std::size_t(c)] += weight * directions.basis[q][std::size_t(c)];
-                    }
-                    store(view, g.data());
-                }
-                continue;
-            }
-            // G = M b = (M R) b_n: R (the ShRotation of the normal's frame) takes b from the normal's frame,
-            // where the table holds it, to the tangent frame.
-            const glm::dmat3 frame = normalFrame(n);
-            const ShRotation rotation(frame);
-            Matrix16 r;
-            for (int c = 0; c < kShCount; ++c) {
-                ShVector e{};
-                e[std::size_t(c)] = 1.0;
-                const ShVector column = rotation.apply(e);
-                for (int q = 0; q < kShCount; ++q) r(q, c) = column[std::size_t(q)];
-            }
-            const Matrix16 m = shadowedMatrix(gdm, directions, v) * r;
-            for (std::size_t view = 0; view < views; ++view) {
-                double angle = 0.0, azimuth = 0.0;
-                viewAngles(frame, viewDirections[view], angle, azimuth);
-                const ShVector b = turnAboutZ(table.at(angle), azimuth);
-                const Eigen::Map<const Eigen::Matrix<double, kShCount, 1>> bv(b.data());
-                const Eigen::Matrix<double, kShCount, 1> g = m * bv;
-                store(view, g.data());
-            }
-        }
+            });
     });
     return rtv;
+}
+
+GdmGlossyRtvSvd bakeCompressedGdmGlossyRtv(const Gdm& gdm, const std::vector<float>& distance,
+                                           const GdmGlossyOptions& options, int rank) {
+    const std::string what = "GDM glossy RTV";
+    GlossyBaker::check(gdm, distance, options, what);
+    const GdmDims& dims = gdm.dims;
+    const std::size_t voxels = dims.voxelCount();
+    const std::size_t views = std::size_t(dims.ntheta / 2) * std::size_t(dims.nphi);
+    if (rank < 1 || std::size_t(rank) > views)
+        throw Error(ErrorKind::InvalidInput, what + " SVD: rank " + std::to_string(rank) +
+                                                 " is outside [1, " + std::to_string(views) + "]");
+    const GlossyBaker baker(gdm, distance, options);
+    GdmGlossyRtvSvd svd = emptySvd(dims, gdm.height, options.shininess, rank, views, distance);
+    // One chunk of kChunk voxels, all coefficients: chunk[(k * count + row) * views + view].
+    std::vector<float> chunk;
+    const auto bakeChunk = [&](std::size_t from, std::size_t count) {
+        chunk.assign(std::size_t(kShCount) * count * views, 0.0f);
+        parallelFor(0, int(count), [&](int row) {
+            baker.voxel(from + std::size_t(row), [&](std::size_t view, const double* g) {
+                for (int q = 0; q < kShCount; ++q)
+                    chunk[(std::size_t(q) * count + std::size_t(row)) * views + view] = float(g[q]);
+            });
+        });
+    };
+    const auto rowsOf = [&](int k, std::size_t count) {
+        return Eigen::Map<const RowsF>(chunk.data() + std::size_t(k) * count * views, Eigen::Index(count),
+                                       Eigen::Index(views));
+    };
+    // Pass 1: the Gram matrices, chunk by chunk (as compressGdmGlossyRtv sums them).
+    std::vector<MatrixD> grams(std::size_t(kShCount),
+                               MatrixD::Zero(Eigen::Index(views), Eigen::Index(views)));
+    for (std::size_t from = 0; from < voxels; from += kChunk) {
+        const std::size_t count = std::min(kChunk, voxels - from);
+        bakeChunk(from, count);
+        parallelFor(0, kShCount, [&](int k) { addToGram(grams[std::size_t(k)], rowsOf(k, count)); });
+    }
+    std::vector<MatrixD> bases(static_cast<std::size_t>(kShCount));
+    parallelFor(0, kShCount, [&](int k) {
+        bases[std::size_t(k)] = finishBasis(grams[std::size_t(k)], k, svd);
+        grams[std::size_t(k)] = MatrixD();
+    });
+    // Pass 2: the same chunks baked again, their weights W_k = A_k E_k^T.
+    for (std::size_t from = 0; from < voxels; from += kChunk) {
+        const std::size_t count = std::min(kChunk, voxels - from);
+        bakeChunk(from, count);
+        parallelFor(0, kShCount,
+                    [&](int k) { storeWeights(rowsOf(k, count), bases[std::size_t(k)], k, from, svd); });
+    }
+    return svd;
 }
 
 ShVector gdmGlossyTransferAt(const GdmGlossyRtv& rtv, const glm::dvec3& point, const glm::dvec3& view) {
@@ -437,49 +581,19 @@ GdmGlossyRtvSvd compressGdmGlossyRtv(const GdmGlossyRtv& rtv, int rank) {
     if (rank < 1 || std::size_t(rank) > views)
         throw Error(ErrorKind::InvalidInput, what + ": rank " + std::to_string(rank) + " is outside [1, " +
                                                  std::to_string(views) + "]");
-    GdmGlossyRtvSvd svd;
-    svd.dims = rtv.dims;
-    svd.height = rtv.height;
-    svd.shininess = rtv.shininess;
-    svd.rank = rank;
-    svd.viewCount = views;
-    svd.distance = rtv.distance;
-    svd.weights.assign(std::size_t(kShCount) * voxels * std::size_t(rank), 0.0f);
-    svd.basis.assign(std::size_t(kShCount) * std::size_t(rank) * views, 0.0f);
-    svd.singularValues.assign(std::size_t(kShCount) * views, 0.0);
-    using MatrixD = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic>;
-    using RowsF = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-    const Eigen::Index columns = Eigen::Index(views);
-    constexpr std::size_t kChunk = 2048;  // rows converted to double at a time
+    GdmGlossyRtvSvd svd = emptySvd(rtv.dims, rtv.height, rtv.shininess, rank, views, rtv.distance);
+    const auto rowsOf = [&](int k, std::size_t from, std::size_t count) {
+        return Eigen::Map<const RowsF>(rtv.transfer.data() + (std::size_t(k) * voxels + from) * views,
+                                       Eigen::Index(count), Eigen::Index(views));
+    };
     // One coefficient per task: A_k^T A_k in double, its eigenvectors, W_k = A_k V_k.
     parallelFor(0, kShCount, [&](int k) {
-        const Eigen::Map<const RowsF> a(rtv.transfer.data() + std::size_t(k) * voxels * views,
-                                        Eigen::Index(voxels), columns);
-        MatrixD gram = MatrixD::Zero(columns, columns);
-        for (std::size_t from = 0; from < voxels; from += kChunk) {
-            const Eigen::Index count = Eigen::Index(std::min(kChunk, voxels - from));
-            const MatrixD chunk = a.middleRows(Eigen::Index(from), count).cast<double>();
-            gram.selfadjointView<Eigen::Lower>().rankUpdate(chunk.transpose());
-        }
-        gram = gram.selfadjointView<Eigen::Lower>();
-        const Eigen::SelfAdjointEigenSolver<MatrixD> solver(gram);
-        // Ascending eigenvalues; the singular values are their square roots, descending.
-        for (Eigen::Index n = 0; n < columns; ++n)
-            svd.singularValues[std::size_t(k) * views + std::size_t(n)] =
-                std::sqrt(std::max(solver.eigenvalues()(columns - 1 - n), 0.0));
-        const MatrixD basis = solver.eigenvectors().rightCols(rank).rowwise().reverse();  // views x rank
-        for (int r = 0; r < rank; ++r)
-            for (std::size_t v = 0; v < views; ++v)
-                svd.basis[(std::size_t(k) * std::size_t(rank) + std::size_t(r)) * views + v] =
-                    float(basis(Eigen::Index(v), r));
-        for (std::size_t from = 0; from < voxels; from += kChunk) {
-            const Eigen::Index count = Eigen::Index(std::min(kChunk, voxels - from));
-            const MatrixD w = a.middleRows(Eigen::Index(from), count).cast<double>() * basis;
-            for (Eigen::Index row = 0; row < count; ++row)
-                for (int r = 0; r < rank; ++r)
-                    svd.weights[(std::size_t(k) * voxels + from + std::size_t(row)) * std::size_t(rank) +
-                                std::size_t(r)] = float(w(row, r));
-        }
+        MatrixD gram = MatrixD::Zero(Eigen::Index(views), Eigen::Index(views));
+        for (std::size_t from = 0; from < voxels; from += kChunk)
+            addToGram(gram, rowsOf(k, from, std::min(kChunk, voxels - from)));
+        const MatrixD basis = finishBasis(gram, k, svd);
+        for (std::size_t from = 0; from < voxels; from += kChunk)
+            storeWeights(rowsOf(k, from, std::min(kChunk, voxels - from)), basis, k, from, svd);
     });
     return svd;
 }

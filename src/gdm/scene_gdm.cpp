@@ -108,8 +108,9 @@ void loadEnvironmentLighting(const Scene& scene, SceneGdm& out, const SceneProgr
         if (progress) progress("glossy radiance transfer, shininess " + formatNumber(settings.shininess));
         GdmGlossyOptions glossy;
         glossy.shininess = settings.shininess;
-        const GdmGlossyRtv baked = bakeGdmGlossyRtv(*raw, distance, glossy);
-        out.glossy = compressGdmGlossyRtv(baked, std::min(settings.rank, int(baked.viewCount())));
+        // Baked in chunks straight into its SVD: the uncompressed form (1 GiB at the defaults) is never held.
+        const int views = (raw->dims.ntheta / 2) * raw->dims.nphi;
+        out.glossy = bakeCompressedGdmGlossyRtv(*raw, distance, glossy, std::min(settings.rank, views));
         out.glossySpecular = settings.specular;
     }
     out.description +=

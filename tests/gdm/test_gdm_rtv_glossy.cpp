@@ -346,6 +346,29 @@ TEST(GdmRtvGlossy, SvdErrorFallsWithRankAndFullRankIsExact) {
     EXPECT_LT(previous, 1e-6);  // full rank keeps every singular value
 }
 
+TEST(GdmRtvGlossy, ChunkedBakeIsTheCompressedBakeFloatForFloat) {
+    // 32 x 32 x 3 = 3072 voxels: a whole chunk of 2048 and a partial one; 4 x 16 = 64 views.
+    const Scene scene("weave", GdmDims{32, 32, 3, 8, 16});
+    GdmGlossyOptions options;
+    options.shininess = 6.0;
+    for (int rank : {1, 4}) {
+        const GdmGlossyRtvSvd whole =
+            compressGdmGlossyRtv(bakeGdmGlossyRtv(scene.gdm, scene.distance, options), rank);
+        const GdmGlossyRtvSvd chunked = bakeCompressedGdmGlossyRtv(scene.gdm, scene.distance, options, rank);
+        EXPECT_EQ(chunked.rank, rank);
+        EXPECT_EQ(chunked.viewCount, whole.viewCount);
+        EXPECT_EQ(chunked.shininess, 6.0);
+        EXPECT_EQ(chunked.height, whole.height);
+        EXPECT_EQ(chunked.distance, whole.distance);
+        EXPECT_EQ(chunked.singularValues, whole.singularValues) << rank;
+        EXPECT_EQ(chunked.basis, whole.basis) << rank;
+        EXPECT_EQ(chunked.weights, whole.weights) << rank;
+    }
+    EXPECT_THROW(bakeCompressedGdmGlossyRtv(scene.gdm, scene.distance, options, 0), Error);
+    EXPECT_THROW(bakeCompressedGdmGlossyRtv(scene.gdm, scene.distance, options, 65), Error);
+    EXPECT_THROW(bakeCompressedGdmGlossyRtv(scene.gdm, std::vector<float>(3), options, 4), Error);
+}
+
 TEST(GdmRtvGlossy, WeaveMatchesThePathTracerUnderABandLimitedSky) {
     const Scene scene("weave", GdmDims{32, 32, 8, 16, 32});
     const Environment environment = makeEnvironment("sky-overcast", 64, 32);

@@ -160,6 +160,13 @@ struct GdmGlossyRtvSvd {
 // Throws Error(InvalidInput) for a rank outside [1, viewCount] or an RTV whose sizes do not match its dims.
 GdmGlossyRtvSvd compressGdmGlossyRtv(const GdmGlossyRtv& rtv, int rank = 4);
 
+// compressGdmGlossyRtv(bakeGdmGlossyRtv(gdm, distance, options), rank), equal to it float for float, without
+// the uncompressed RTV (16 x voxels x views floats: 1 GiB at 64 x 64 x 16 voxels x 256 views): the voxels
+// are baked in chunks of 2048 (all 16 coefficients: 32 MiB at 256 views) twice, once for the Gram matrices
+// (16 x views x views doubles) and once for the weights, so it costs two bakes. Throws as the two.
+GdmGlossyRtvSvd bakeCompressedGdmGlossyRtv(const Gdm& gdm, const std::vector<float>& distance,
+                                           const GdmGlossyOptions& options = {}, int rank = 4);
+
 // The lookups of the compressed form, directly from W and E (what a shader does; equal to the lookups of
 // reconstruct() up to float rounding).
 ShVector gdmGlossyTransferAt(const GdmGlossyRtvSvd& svd, const glm::dvec3& point, const glm::dvec3& view);

@@ -56,9 +56,8 @@ ShColor turnEnvironment(const ShColor& world, double degrees, double intensity);
 // RTV: its visibility from the raw GDM, or, for an asset without one, from a GDM baked again from the
 // asset's solid (solid.obj) at the asset's dims (Error(InvalidInput) when it has neither); the signed
 // distance from the asset's (or bakeGdmDistance of the solid); the albedo from its albedo volume
-// (gdmVolumeAlbedo), or 0.7 grey (the renderer's) without one; with env_specular > 0 the glossy RTV too (its
-// uncompressed form, 16 floats per voxel and view, is held while it is compressed: 1 GiB at 64 x 64 x 16
-// voxels and 256 views).
+// (gdmVolumeAlbedo), or 0.7 grey (the renderer's) without one; with env_specular > 0 the glossy RTV too
+// (bakeCompressedGdmGlossyRtv: baked in chunks into its SVD, never held uncompressed).
 SceneGdm loadSceneGdm(const Scene& scene, const SceneProgress& progress = {});
 
 }  // namespace strata
