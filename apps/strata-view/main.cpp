@@ -7,6 +7,7 @@
 #include "viewer.h"
 
 #include "strata/core/error.h"
+#include "strata/core/interrupt.h"
 #include "strata/core/version.h"
 
 #include <CLI/CLI.hpp>
@@ -33,6 +34,7 @@ void parseSize(const std::string& text, int& width, int& height) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    strata::installInterruptCleanup();  // before any thread: a signal removes half-written screenshots
     CLI::App app{
         "strata-view: interactive relief mapping, meta-relief editing and generalized displacement maps "
         "(docs/viewer.md)"};

@@ -1,5 +1,7 @@
 #include "cli_common.h"
 
+#include "strata/relief/relief_texture.h"
+
 #include "strata/core/error.h"
 #include "strata/core/file.h"
 
@@ -31,6 +33,23 @@ void addBitDepthOption(CLI::App& command, int& bitDepth) {
                     "Bit depth of depth, normal, AO and packed PNGs (colour is always 8-bit sRGB)")
         ->check(CLI::IsMember({8, 16}))
         ->capture_default_str();
+}
+
+CLI::Validator depthScaleRange() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            double value = 0.0;
+            try {
+                std::size_t used = 0;
+                value = std::stod(text, &used);
+                if (used != text.size()) return "must be a number in (0, 10], got '" + text + "'";
+            } catch (const std::exception&) {
+                return "must be a number in (0, 10], got '" + text + "'";
+            }
+            if (!(value > 0.0 && value <= kMaxReliefDepthScale)) return "must be in (0, 10], got " + text;
+            return {};
+        },
+        "(0, 10]");
 }
 
 void reportWritten(const std::filesystem::path& dir, const std::vector<std::filesystem::path>& files) {

@@ -39,6 +39,10 @@ void note(const std::string& message);
 // --bit-depth 8|16 (default 16), shared by every command that writes a texture set.
 void addBitDepthOption(CLI::App& command, int& bitDepth);
 
+// The check of every --depth-scale that writes a set: (0, kMaxReliefDepthScale], as render takes it.
+// CLI11 reports "--depth-scale: must be in (0, 10], got 50" (exit 1).
+CLI::Validator depthScaleRange();
+
 // Prints what was written ("wrote DIR: depth.png normal.png ...") on stdout.
 void reportWritten(const std::filesystem::path& dir, const std::vector<std::filesystem::path>& files);
 

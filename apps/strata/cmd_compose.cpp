@@ -40,7 +40,8 @@ void runCompose(const ComposeOptions& options) {
 
     progress("loading " + std::to_string(material.layers.size()) + " layers");
     std::vector<std::string> notes;
-    const std::vector<CompositionLayer> layers = loadLayers(material, &notes);
+    const std::vector<CompositionLayer> layers =
+        loadLayers(material, &notes, [](const std::string& message) { progress("  " + message); });
     for (const auto& text : notes) note(text);
 
     progress("composing");

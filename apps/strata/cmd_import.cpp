@@ -8,6 +8,7 @@
 #include "strata/image/image_io.h"
 #include "strata/image/image_ops.h"
 #include "strata/relief/import.h"
+#include "strata/relief/relief_texture.h"
 
 #include <nlohmann/json.hpp>
 
@@ -56,6 +57,10 @@ void runImport(ImportOptions options) {
         const Image depth = readDepthInput(options, source);
         const NormalConventionReport report =
             detectNormalConvention(readNormalMap(options.checkNormal), depth);
+        // Scripts branch on the exit code: 0 only for a convention found; "cannot tell" is exit 3.
+        if (report.convention == NormalConvention::Unknown)
+            throw Error(ErrorKind::InvalidInput,
+                        options.checkNormal.string() + ": cannot tell the convention: " + report.summary);
         std::cout << options.checkNormal.string() << ": " << report.summary << "\n";
         return;
     }
@@ -156,8 +161,10 @@ void addImportCommand(CLI::App& app) {
     command->add_option("--check-normal", options->checkNormal,
                         "Report whether this normal map is OpenGL or DirectX, by comparing it with "
                         "--height/--depth; writes nothing");
-    command->add_option("--depth-scale", options->depthScale, "Depth scale S (depth of d = 1 in tile widths)")
-        ->check(CLI::PositiveNumber)
+    command
+        ->add_option("--depth-scale", options->depthScale,
+                     "Depth scale S (depth of d = 1 in tile widths), (0, 10]")
+        ->check(depthScaleRange())
         ->capture_default_str();
     addBitDepthOption(*command, options->bitDepth);
     command->add_option("-o,--output", options->output, "Output directory");

@@ -28,6 +28,9 @@ struct InfoOptions {
 
 json imageJson(const fs::path& file) {
     const ImageInfo info = readImageInfo(file);
+    // The header alone says nothing of the data: decode it all, so that a truncated or corrupt file is
+    // reported as such (exit 3) instead of described.
+    (void)readImage(file);
     return {{"file", file.string()}, {"format", toString(info.format)}, {"width", info.width},
             {"height", info.height}, {"channels", info.channels},       {"bit_depth", info.bitDepth}};
 }

@@ -4,6 +4,7 @@
 
 #include "strata/core/error.h"
 #include "strata/relief/patterns.h"
+#include "strata/relief/relief_texture.h"
 
 #include <nlohmann/json.hpp>
 
@@ -60,8 +61,8 @@ void addPatternCommand(CLI::App& app) {
     command->add_option("--seed", options->params.seed, "Random seed")->capture_default_str();
     command
         ->add_option("--depth-scale", options->params.depthScale,
-                     "Depth scale S for the normal map (depth of d = 1 in tile widths)")
-        ->check(CLI::PositiveNumber)
+                     "Depth scale S for the normal map (depth of d = 1 in tile widths), (0, 10]")
+        ->check(depthScaleRange())
         ->capture_default_str();
     addBitDepthOption(*command, options->bitDepth);
     command->add_option("-o,--output", options->output, "Output directory");

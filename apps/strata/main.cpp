@@ -7,12 +7,15 @@
 #include "cli_common.h"
 
 #include "strata/core/error.h"
+#include "strata/core/interrupt.h"
 #include "strata/core/version.h"
 
 #include <iostream>
 #include <new>
 
 int main(int argc, char** argv) {
+    // First, before any thread: SIGINT / SIGTERM / SIGHUP remove what was being written (docs/cli.md).
+    strata::installInterruptCleanup();
     CLI::App app{
         "strata: relief textures, meta-relief composition, texture-space ambient occlusion and relief "
         "rendering"};
@@ -35,9 +38,11 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        // --help and --version are "errors" with exit code 0 to CLI11; everything else is usage.
-        const int code = app.exit(e);
-        return code == 0 ? 0 : strata::exitCode(strata::ErrorKind::Usage);
+        // --help and --version are "errors" with exit code 0 to CLI11; everything else is usage, reported
+        // like every other error.
+        if (e.get_exit_code() == 0) return app.exit(e);
+        std::cerr << "strata: error: " << e.what() << "\nRun with --help for more information.\n";
+        return strata::exitCode(strata::ErrorKind::Usage);
     } catch (...) {
         return strata::reportCurrentException("strata");
     }

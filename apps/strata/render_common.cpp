@@ -157,6 +157,23 @@ void addSceneFlags(CLI::App& command, SceneFlags& f) {
                        "With --env-specular: the glossy lobe's Phong exponent, 0..64, default 8");
 }
 
+namespace {
+
+// "tiling: must be in (0, 4096], got 1e+12" -> "--tiling: must be ...": the validators name the scene key;
+// a flag's error names the flag (width and height come from --size).
+std::string flagMessage(const std::string& message) {
+    const std::size_t colon = message.find(':');
+    if (colon == std::string::npos) return message;
+    std::string key = message.substr(0, colon);
+    if (key.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") != std::string::npos) return message;
+    if (key == "width" || key == "height") key = "size";
+    for (char& c : key)
+        if (c == '_') c = '-';
+    return "--" + key + message.substr(colon);
+}
+
+}  // namespace
+
 Scene buildScene(const SceneFlags& f) {
     Scene scene = f.sceneFile.empty() ? Scene{} : readScene(f.sceneFile);
     if (!f.mesh.empty()) scene.mesh = f.mesh;
@@ -210,6 +227,12 @@ Scene buildScene(const SceneFlags& f) {
     }
     if (f.shellThickness) gdm.shellThickness = *f.shellThickness;
     if (!f.gdmLightFrame.empty()) gdm.lightFrame = parseGdmLightFrame(f.gdmLightFrame);
+    if (gdm.source.empty() &&
+        (!f.gdmTechnique.empty() || !f.gdmRank.empty() || f.shellThickness || !f.gdmLightFrame.empty()))
+        throw Error(
+            ErrorKind::Usage,
+            "--gdm-technique, --gdm-rank, --shell-thickness and --gdm-light-frame are for a GDM render: "
+            "give --gdm");
     EnvironmentSettings& env = scene.environment;
     applyEnvironmentFlags(f.env, env, !gdm.source.empty());
     if (!gdm.source.empty() && (!f.material.empty() || !scene.depthMap.empty()))
@@ -217,11 +240,18 @@ Scene buildScene(const SceneFlags& f) {
             ErrorKind::Usage,
             "--gdm draws a mesostructure instead of a material: give no --material or --depth-map with "
             "it");
-    validate(r);
-    validate(scene.lighting);
-    validate(p);
-    validate(gdm, p);
-    validate(env, gdm);
+    // readScene validated the file's values, so a value out of range now came from a flag: a usage error
+    // that names the flag, not the scene key.
+    try {
+        validate(r);
+        validate(scene.lighting);
+        validate(p);
+        validate(gdm, p);
+        validate(env, gdm);
+    } catch (const Error& e) {
+        if (e.kind() != ErrorKind::InvalidInput) throw;
+        throw Error(ErrorKind::Usage, flagMessage(e.what()));
+    }
     return scene;
 }
 

@@ -1,6 +1,7 @@
 #include "strata/core/file.h"
 
 #include "strata/core/error.h"
+#include "strata/core/interrupt.h"
 
 #include <unistd.h>
 #include <atomic>
@@ -31,13 +32,17 @@ void writeFileAtomic(const fs::path& dest, const std::function<void(const fs::pa
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
         throw Error(ErrorKind::Io, dest.string() + ": the directory " + dir.string() + " does not exist");
+    if (fs::is_directory(dest, ec))
+        throw Error(ErrorKind::Io, dest.string() + ": is a directory; name a file to write");
     const fs::path tmp = temporaryPathFor(dest);
+    const InterruptCleanup cleanup(tmp);
     try {
         write(tmp);
     } catch (...) {
         fs::remove(tmp, ec);
         throw;
     }
+    const InterruptDeferral deferral;  // the finished file moves in, or the temporary goes
     fs::rename(tmp, dest, ec);
     if (ec) {
         fs::remove(tmp, ec);
@@ -55,11 +60,18 @@ void writeTextFileAtomic(const fs::path& dest, const std::string& text) {
     });
 }
 
-std::vector<unsigned char> readFileBytes(const fs::path& path) {
+void checkReadableFile(const fs::path& path) {
     std::error_code ec;
-    if (!fs::exists(path, ec)) throw Error(ErrorKind::Io, path.string() + ": no such file");
-    if (fs::is_directory(path, ec))
-        throw Error(ErrorKind::Io, path.string() + ": is a directory, not a file");
+    const fs::file_status status = fs::status(path, ec);  // follows symbolic links
+    if (!fs::exists(status)) throw Error(ErrorKind::Io, path.string() + ": no such file");
+    if (fs::is_directory(status)) throw Error(ErrorKind::Io, path.string() + ": is a directory, not a file");
+    // A FIFO would block, and a device such as /dev/zero never ends: only regular files are read.
+    if (!fs::is_regular_file(status))
+        throw Error(ErrorKind::Io, path.string() + ": not a regular file (a device, a FIFO or a socket)");
+}
+
+std::vector<unsigned char> readFileBytes(const fs::path& path) {
+    checkReadableFile(path);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(ErrorKind::Io, path.string() + ": cannot open for reading");
     std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

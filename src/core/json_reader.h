@@ -12,6 +12,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace strata::detail {
 
@@ -105,15 +106,62 @@ private:
     std::set<std::string> mSeen;
 };
 
-// Reads and parses a JSON file. Throws Error(Io) if it cannot be read and Error(InvalidInput)
-// "<file>: not valid JSON: <parser message with line and column>".
-inline json readJsonFile(const std::filesystem::path& path) {
-    const std::string text = readTextFile(path);
+// Parses JSON text strictly: a key twice in one object is an error (nlohmann keeps the last one, so a
+// pasted block would silently win), and so is a number out of double's range (1e400). Throws
+// Error(InvalidInput) "<where>: not valid JSON: <parser message with line and column>" or
+// "<where>: <key path>: duplicate key".
+inline json parseJsonStrict(const std::string& text, const std::string& where) {
+    struct Open {  // an object or array being parsed
+        bool array = false;
+        std::size_t index = 0;       // of the next element, in an array
+        std::string path;            // "layers[0]", for the message
+        std::set<std::string> keys;  // seen so far, in an object
+    };
+    std::vector<Open> open;
+    std::string lastKey;
+    const auto childPath = [&]() {
+        if (open.empty()) return std::string();
+        const Open& parent = open.back();
+        if (parent.array) return parent.path + "[" + std::to_string(parent.index) + "]";
+        return parent.path.empty() ? lastKey : parent.path + "." + lastKey;
+    };
+    const auto elementDone = [&]() {
+        if (!open.empty() && open.back().array) ++open.back().index;
+    };
+    const json::parser_callback_t callback = [&](int /*depth*/, json::parse_event_t event, json& parsed) {
+        switch (event) {
+            case json::parse_event_t::object_start:
+                open.push_back({false, 0, childPath(), {}});
+                break;
+            case json::parse_event_t::array_start:
+                open.push_back({true, 0, childPath(), {}});
+                break;
+            case json::parse_event_t::object_end:
+            case json::parse_event_t::array_end:
+                open.pop_back();
+                elementDone();
+                break;
+            case json::parse_event_t::key:
+                lastKey = parsed.get<std::string>();
+                if (!open.back().keys.insert(lastKey).second)
+                    throw Error(ErrorKind::InvalidInput, where + ": " + childPath() + ": duplicate key");
+                break;
+            case json::parse_event_t::value:
+                elementDone();
+                break;
+        }
+        return true;
+    };
     try {
-        return json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw Error(ErrorKind::InvalidInput, path.string() + ": not valid JSON: " + e.what());
+        return json::parse(text, callback);
+    } catch (const json::exception& e) {
+        throw Error(ErrorKind::InvalidInput, where + ": not valid JSON: " + e.what());
     }
+}
+
+// Reads and parses a JSON file with parseJsonStrict. Throws Error(Io) if it cannot be read.
+inline json readJsonFile(const std::filesystem::path& path) {
+    return parseJsonStrict(readTextFile(path), path.string());
 }
 
 }  // namespace strata::detail

@@ -3,13 +3,17 @@
 #pragma once
 
 #include "strata/core/error.h"
+#include "strata/core/interrupt.h"
 
 #include <unistd.h>
 
 #include <atomic>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <string>
 #include <system_error>
+#include <vector>
 
 namespace strata::detail {
 
@@ -29,6 +33,7 @@ public:
         if (ec)
             throw Error(ErrorKind::Io,
                         dir.string() + ": cannot create a staging directory beside it: " + ec.message());
+        mCleanup = std::make_unique<InterruptCleanup>(mPath);
     }
     ~StagingDir() {
         std::error_code ec;
@@ -37,6 +42,32 @@ public:
     StagingDir(const StagingDir&) = delete;
     StagingDir& operator=(const StagingDir&) = delete;
     const std::filesystem::path& path() const { return mPath; }
+
+    // Creates `dir` if needed, runs `beforeMoves` (e.g. removing files of an older version), and renames
+    // the staged files `names` into it in that order (the sidecar that names the others last). An
+    // interruption waits until every rename is done (InterruptDeferral), so a signal never leaves half a
+    // set. Throws Error(Io) "<dir>: cannot create the output directory: ..." or "<dir>/<name>: cannot
+    // move into place: ...". Returns the paths written.
+    std::vector<std::filesystem::path> moveInto(const std::filesystem::path& dir,
+                                                const std::vector<std::string>& names,
+                                                const std::function<void()>& beforeMoves = {}) const {
+        const InterruptDeferral deferral;
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        if (ec)
+            throw Error(ErrorKind::Io,
+                        dir.string() + ": cannot create the output directory: " + ec.message());
+        if (beforeMoves) beforeMoves();
+        std::vector<std::filesystem::path> written;
+        for (const std::string& name : names) {
+            std::filesystem::rename(mPath / name, dir / name, ec);
+            if (ec)
+                throw Error(ErrorKind::Io,
+                            (dir / name).string() + ": cannot move into place: " + ec.message());
+            written.push_back(dir / name);
+        }
+        return written;
+    }
 
 private:
     static std::filesystem::path existingAncestor(const std::filesystem::path& dir) {
@@ -49,6 +80,7 @@ private:
     }
 
     std::filesystem::path mPath;
+    std::unique_ptr<InterruptCleanup> mCleanup;  // after mPath: unregistered before the removal
 };
 
 }  // namespace strata::detail

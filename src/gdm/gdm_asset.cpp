@@ -230,18 +230,13 @@ void writeGdmAsset(const fs::path& dir, const GdmAsset& asset, const std::vector
 
     // An older asset's sidecar goes first, so that a failure half-way never leaves a sidecar naming
     // payloads of another bake; the new one moves in last.
-    fs::create_directories(dir, ec);
-    if (ec) throw Error(ErrorKind::Io, what + ": cannot create the output directory: " + ec.message());
-    fs::remove(dir / kGdmAssetSidecar, ec);
-    if (!asset.raw) fs::remove(dir / "raw.f32", ec);
-    if (asset.albedo.empty()) fs::remove(dir / "albedo.rgb8", ec);
-    if (asset.distance.empty()) fs::remove(dir / "distance.f32", ec);
-    if (!asset.solid) fs::remove(dir / kSolidFile, ec);
-    for (const std::string& name : names) {
-        fs::rename(staging.path() / name, dir / name, ec);
-        if (ec)
-            throw Error(ErrorKind::Io, (dir / name).string() + ": cannot move into place: " + ec.message());
-    }
+    staging.moveInto(dir, names, [&] {
+        fs::remove(dir / kGdmAssetSidecar, ec);
+        if (!asset.raw) fs::remove(dir / "raw.f32", ec);
+        if (asset.albedo.empty()) fs::remove(dir / "albedo.rgb8", ec);
+        if (asset.distance.empty()) fs::remove(dir / "distance.f32", ec);
+        if (!asset.solid) fs::remove(dir / kSolidFile, ec);
+    });
 }
 
 bool isGdmAsset(const fs::path& dir) {

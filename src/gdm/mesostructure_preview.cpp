@@ -192,18 +192,7 @@ std::vector<std::filesystem::path> writeMesostructureOutputs(const std::filesyst
     PngWriteOptions png;
     png.bitDepth = PngBitDepth::Eight;
     writePng(staging.path() / "preview.png", preview, png);
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec)
-        throw Error(ErrorKind::Io, dir.string() + ": cannot create the output directory: " + ec.message());
-    std::vector<fs::path> written;
-    for (const char* name : {"mesh.obj", "preview.png"}) {
-        fs::rename(staging.path() / name, dir / name, ec);
-        if (ec)
-            throw Error(ErrorKind::Io, (dir / name).string() + ": cannot move into place: " + ec.message());
-        written.push_back(dir / name);
-    }
-    return written;
+    return staging.moveInto(dir, {"mesh.obj", "preview.png"});
 }
 
 }  // namespace strata

@@ -516,9 +516,8 @@ Mesh loadMesh(const fs::path& path, const MeshLoadOptions& options, MeshRepairRe
         throw Error(ErrorKind::Unsupported, path.string() + ": unsupported mesh format '" + ext +
                                                 "' (Strata reads .obj, .gltf, .glb and .off)");
     }
-    std::error_code ec;
-    if (!fs::exists(path, ec)) throw Error(ErrorKind::Io, path.string() + ": no such file");
-    if (!fs::is_regular_file(path, ec) || !std::ifstream(path, std::ios::binary).good()) {
+    checkReadableFile(path);
+    if (!std::ifstream(path, std::ios::binary).good()) {
         throw Error(ErrorKind::Io, path.string() + ": cannot be read");
     }
 

@@ -262,17 +262,7 @@ std::vector<fs::path> writeDualDepth(const fs::path& dir, const DualDepthTexture
     detail::StagingDir staging(dir);
     writePng(staging.path() / kPacked, packed, {PngBitDepth::Sixteen, false});
     writeTextFileAtomic(staging.path() / kSidecar, sidecar.dump(2) + "\n");
-    fs::create_directories(dir, ec);
-    if (ec)
-        throw Error(ErrorKind::Io, dir.string() + ": cannot create the output directory: " + ec.message());
-    std::vector<fs::path> written;
-    for (const char* name : {kPacked, kSidecar}) {
-        fs::rename(staging.path() / name, dir / name, ec);
-        if (ec)
-            throw Error(ErrorKind::Io, (dir / name).string() + ": cannot move into place: " + ec.message());
-        written.push_back(dir / name);
-    }
-    return written;
+    return staging.moveInto(dir, {kPacked, kSidecar});
 }
 
 DualDepthTexture readDualDepth(const fs::path& path) {

@@ -6,6 +6,7 @@
 #include "strata/image/image_io.h"
 #include "strata/image/image_ops.h"
 
+#include "core/json_reader.h"
 #include "core/staging_dir.h"
 
 #include <nlohmann/json.hpp>
@@ -145,32 +146,27 @@ std::vector<fs::path> writeTextureSet(const fs::path& dir, const ReliefTexture& 
 
     // The sidecar moves in last: it is what says which maps belong to the set, so files in `dir`
     // that this set does not name (an older colour map, a user's own file) are left alone.
-    fs::create_directories(dir, ec);
-    if (ec)
-        throw Error(ErrorKind::Io, dir.string() + ": cannot create the output directory: " + ec.message());
-    std::vector<fs::path> written;
-    for (const std::string& name : names) {
-        fs::rename(staging.path() / name, dir / name, ec);
-        if (ec)
-            throw Error(ErrorKind::Io, (dir / name).string() + ": cannot move into place: " + ec.message());
-        written.push_back(dir / name);
-    }
-    return written;
+    return staging.moveInto(dir, names);
 }
 
 json readSidecar(const fs::path& path) {
-    const fs::path file = fs::is_directory(path) ? path / kSidecarName : path;
-    const std::string text = readTextFile(file);
-    json sidecar;
-    try {
-        sidecar = json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw Error(ErrorKind::InvalidInput, file.string() + ": not valid JSON: " + e.what());
-    }
+    std::error_code ec;
+    const bool isDirectory = fs::is_directory(path, ec);
+    const fs::path file = isDirectory ? path / kSidecarName : path;
+    if (isDirectory && !fs::exists(file, ec))
+        throw Error(ErrorKind::Io, path.string() + ": not a texture set (it has no " + kSidecarName + ")");
+    const json sidecar = detail::parseJsonStrict(readTextFile(file), file.string());
     if (!sidecar.is_object() || sidecar.value("format", "") != kSidecarFormat)
         throw Error(ErrorKind::InvalidInput, file.string() +
                                                  ": not a Strata texture-set sidecar (\"format\" is not \"" +
                                                  kSidecarFormat + "\")");
+    // Every command takes depth scales in (0, 10] (kMaxReliefDepthScale): a set outside is named here, not
+    // refused later by another command.
+    const auto scale = sidecar.find("depth_scale");
+    if (scale != sidecar.end() && scale->is_number() &&
+        !(scale->get<double>() > 0.0 && scale->get<double>() <= kMaxReliefDepthScale))
+        throw Error(ErrorKind::InvalidInput, file.string() + ": \"depth_scale\" must be in (0, 10], got " +
+                                                 formatNumber(scale->get<double>()));
     return sidecar;
 }
 

@@ -36,10 +36,11 @@ MaterialLayer parseLayer(const json& object, const std::string& where, const std
         if (!relative) return std::nullopt;
         if (relative->empty()) reader.fail(reader.keyPath(key), "must not be empty");
         const fs::path path = baseDir / *relative;
-        std::error_code ec;
-        if (!fs::is_regular_file(path, ec))
-            throw Error(ErrorKind::Io,
-                        file + ": " + reader.keyPath(key) + ": no such file: " + path.string());
+        try {
+            checkReadableFile(path);
+        } catch (const Error& e) {
+            throw Error(ErrorKind::Io, file + ": " + reader.keyPath(key) + ": " + e.what());
+        }
         return path;
     };
 
@@ -57,9 +58,9 @@ MaterialLayer parseLayer(const json& object, const std::string& where, const std
         layer.patternParams.seed = static_cast<std::uint32_t>(
             reader.integer("seed", 0, std::numeric_limits<std::uint32_t>::max()).value_or(defaults.seed));
         layer.patternParams.depthScale = reader.number("depth_scale").value_or(defaults.depthScale);
-        if (!(layer.patternParams.depthScale > 0.0))
+        if (!(layer.patternParams.depthScale > 0.0 && layer.patternParams.depthScale <= kMaxReliefDepthScale))
             reader.fail(reader.keyPath("depth_scale"),
-                        "must be > 0, got " + formatNumber(layer.patternParams.depthScale));
+                        "must be in (0, 10], got " + formatNumber(layer.patternParams.depthScale));
         for (const char* fileKey : {"depth", "height", "normal", "normal_y", "color"})
             if (reader.has(fileKey))
                 reader.fail(reader.keyPath(fileKey), "a layer uses either \"pattern\" or files, not both");
@@ -82,21 +83,27 @@ MaterialLayer parseLayer(const json& object, const std::string& where, const std
             reader.fail(reader.keyPath("normal_y"), "given without \"normal\"");
         layer.normalYDown = normalY == "down";
         layer.fileDepthScale = reader.number("depth_scale");
-        if (layer.fileDepthScale && !(*layer.fileDepthScale > 0.0))
+        if (layer.fileDepthScale &&
+            !(*layer.fileDepthScale > 0.0 && *layer.fileDepthScale <= kMaxReliefDepthScale))
             reader.fail(reader.keyPath("depth_scale"),
-                        "must be > 0, got " + formatNumber(*layer.fileDepthScale));
+                        "must be in (0, 10], got " + formatNumber(*layer.fileDepthScale));
         layer.colorFile = existingFile("color");
     }
 
     layer.tiling = reader.number("tiling").value_or(1.0);
-    if (!(layer.tiling > 0.0))
-        reader.fail(reader.keyPath("tiling"), "must be > 0, got " + formatNumber(layer.tiling));
+    if (!(layer.tiling > 0.0 && layer.tiling <= kMaxLayerTiling))
+        reader.fail(reader.keyPath("tiling"), "must be in (0, 4096], got " + formatNumber(layer.tiling));
     layer.weightDepth = reader.number("weight_depth").value_or(1.0);
     if (layer.weightDepth < 0.0)
         reader.fail(reader.keyPath("weight_depth"), "must be >= 0, got " + formatNumber(layer.weightDepth));
+    if (layer.weightDepth > kMaxLayerWeight)
+        reader.fail(reader.keyPath("weight_depth"), "must be <= 1e6, got " + formatNumber(layer.weightDepth));
     layer.weightNormal = reader.number("weight_normal").value_or(1.0);
     if (layer.weightNormal < 0.0)
         reader.fail(reader.keyPath("weight_normal"), "must be >= 0, got " + formatNumber(layer.weightNormal));
+    if (layer.weightNormal > kMaxLayerWeight)
+        reader.fail(reader.keyPath("weight_normal"),
+                    "must be <= 1e6, got " + formatNumber(layer.weightNormal));
     reader.rejectUnknown();
     return layer;
 }
@@ -112,8 +119,8 @@ Material parseMaterial(const json& document, const fs::path& source) {
     material.compose.resolution =
         static_cast<int>(reader.integer("resolution", 1, Image::kMaxDimension).value_or(0));
     material.compose.depthScale = reader.number("depth_scale").value_or(kDefaultDepthScale);
-    if (!(material.compose.depthScale > 0.0))
-        reader.fail("depth_scale", "must be > 0, got " + formatNumber(material.compose.depthScale));
+    if (!(material.compose.depthScale > 0.0 && material.compose.depthScale <= kMaxReliefDepthScale))
+        reader.fail("depth_scale", "must be in (0, 10], got " + formatNumber(material.compose.depthScale));
     if (const auto normals = reader.string("normals")) {
         if (*normals != "paper" && *normals != "consistent")
             reader.fail("normals", "must be \"paper\" or \"consistent\", got \"" + *normals + "\"");
@@ -125,6 +132,9 @@ Material parseMaterial(const json& document, const fs::path& source) {
     const json* layers = reader.array("layers");
     if (!layers) reader.fail("layers", "missing: a material needs a \"layers\" array");
     if (layers->empty()) reader.fail("layers", "must hold at least one layer");
+    if (layers->size() > kMaxMaterialLayers)
+        reader.fail("layers", "at most " + std::to_string(kMaxMaterialLayers) + " layers, got " +
+                                  std::to_string(layers->size()));
     for (std::size_t i = 0; i < layers->size(); ++i)
         material.layers.push_back(
             parseLayer((*layers)[i], "layers[" + std::to_string(i) + "]", file, baseDir));
@@ -203,10 +213,14 @@ void applyLayerSettings(std::size_t index, const MaterialLayer& spec, Compositio
     layer.weightNormal = spec.weightNormal;
 }
 
-std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<std::string>* notes) {
+std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<std::string>* notes,
+                                         const MetaAoProgress& progress) {
     std::vector<CompositionLayer> layers;
     for (std::size_t i = 0; i < material.layers.size(); ++i) {
         const MaterialLayer& spec = material.layers[i];
+        if (progress)
+            progress("layer " + std::to_string(i + 1) + "/" + std::to_string(material.layers.size()) + ": " +
+                     layerLabel(i, spec));
         CompositionLayer layer;
         applyLayerSettings(i, spec, layer);
         if (spec.pattern) {
@@ -239,7 +253,7 @@ std::vector<fs::path> materialInputs(const Material& material) {
 ReliefTexture composeMaterial(const Material& material, std::vector<std::string>* notes,
                               const MetaAoProgress& progress) {
     if (progress) progress("loading " + std::to_string(material.layers.size()) + " layers");
-    const std::vector<CompositionLayer> layers = loadLayers(material, notes);
+    const std::vector<CompositionLayer> layers = loadLayers(material, notes, progress);
     if (progress) progress("composing");
     Composition composition = compose(layers, material.compose);
     if (notes) notes->insert(notes->end(), composition.warnings.begin(), composition.warnings.end());

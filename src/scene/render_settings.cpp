@@ -1,6 +1,7 @@
 #include "strata/scene/render_settings.h"
 
 #include "strata/core/error.h"
+#include "strata/relief/relief_texture.h"
 
 #include <algorithm>
 #include <cmath>
@@ -160,7 +161,8 @@ bool finite(const glm::dvec3& v) {
 void validate(const ReliefSettings& s) {
     if (s.linearSteps < 1 || s.linearSteps > 1024) outOfRange("linear_steps", "in [1, 1024]", s.linearSteps);
     if (s.binarySteps < 0 || s.binarySteps > 32) outOfRange("binary_steps", "in [0, 32]", s.binarySteps);
-    if (s.depthScale && !(std::isfinite(*s.depthScale) && *s.depthScale > 0.0 && *s.depthScale <= 10.0)) {
+    if (s.depthScale &&
+        !(std::isfinite(*s.depthScale) && *s.depthScale > 0.0 && *s.depthScale <= kMaxReliefDepthScale)) {
         outOfRange("depth_scale", "in (0, 10]", *s.depthScale);
     }
     if (!(std::isfinite(s.tiling) && s.tiling > 0.0 && s.tiling <= 4096.0)) {

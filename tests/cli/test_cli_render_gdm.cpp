@@ -234,17 +234,17 @@ TEST_F(CliRenderGdm, ErrorsHaveTheirCodesAndWriteNothing) {
         {weave + " --env sky-clear --env-intensity -1" + small, 1, "--env-intensity"},
         {weave + " --env sky-clear --env-specular -1" + small, 1, "--env-specular"},
         {weave + " --env sky-clear --env-shininess 100" + small, 1, "--env-shininess"},
+        // A flag out of range or out of place is usage too, and names the flag, not the scene key.
+        {weave + " --output uv" + small, 1, "--output: uv is a relief output"},
+        {" --gdm-technique refine" + small, 1, "give --gdm"},
+        {weave + " --shell-thickness 0" + small, 1, "--shell-thickness: must be > 0"},
         // Invalid input (3): an environment that is neither a built-in sky nor a file.
         {weave + " --env sky-mars" + small, 3, "sky-mars"},
         // Invalid input (3): neither an asset nor a built-in, a rank above the stored one, raw without
-        // raw.f32,
-        // a relief output with a GDM, a GDM setting without one, a thickness <= 0.
+        // raw.f32.
         {" --gdm no-such-meso" + small, 3, "no-such-meso"},
         {weave + " --gdm-rank 9" + small, 3, "gdm_rank 9"},
         {" --gdm " + quoted(*dir / "noraw") + " --gdm-rank raw" + small, 3, "raw"},
-        {weave + " --output uv" + small, 3, "output"},
-        {" --gdm-technique refine" + small, 3, "give a gdm"},
-        {weave + " --shell-thickness 0" + small, 3, "shell_thickness"},
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.args);

@@ -107,7 +107,7 @@ TEST_F(MaterialTest, EveryBadKeyIsNamed) {
 
     doc = issueMaterial();
     doc["layers"][1]["depth"] = "missing.png";
-    expectError(doc, ErrorKind::Io, "layers[1].depth: no such file");
+    expectError(doc, ErrorKind::Io, "layers[1].depth: " + (dir / "missing.png").string() + ": no such file");
 
     doc = issueMaterial();
     doc["layers"][1]["height"] = "fabric_depth.png";

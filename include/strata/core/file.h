@@ -19,7 +19,13 @@ void writeFileAtomic(const std::filesystem::path& dest,
 // Writes bytes atomically (see writeFileAtomic).
 void writeTextFileAtomic(const std::filesystem::path& dest, const std::string& text);
 
-// Reads a whole file. Throws Error(Io) naming the path if it cannot be opened or read.
+// Throws Error(Io) naming the path unless it is (a symbolic link to) a regular file: "no such file", "is a
+// directory, not a file", or "not a regular file" for a FIFO, a device or a socket, which would block or
+// never end.
+void checkReadableFile(const std::filesystem::path& path);
+
+// Reads a whole file (checkReadableFile first). Throws Error(Io) naming the path if it cannot be opened or
+// read.
 std::vector<unsigned char> readFileBytes(const std::filesystem::path& path);
 std::string readTextFile(const std::filesystem::path& path);
 

@@ -8,6 +8,10 @@ namespace strata {
 // The depth scale Strata uses where none is given: the depth of d = 1 as a fraction of the tile's
 // width (CONVENTIONS §2). The same default everywhere: patterns, imports, materials, the CLI.
 inline constexpr double kDefaultDepthScale = 0.08;
+// The largest depth scale anything in Strata writes or renders: a relief ten tile widths deep. Every
+// command and file key that takes a depth scale accepts (0, kMaxReliefDepthScale], so that a set one
+// command writes, another can render.
+inline constexpr double kMaxReliefDepthScale = 10.0;
 
 struct ReliefTexture {
     // 1 channel, d in [0, 1]: 0 is the polygon's surface (the top), 1 the deepest point.

@@ -74,6 +74,14 @@ struct Material {
     AoParams aoParams;
 };
 
+// The most layers a material may have (error 3 beyond): the papers combine two to four, and each layer
+// costs a full map and a pass of every composition and AO step.
+inline constexpr std::size_t kMaxMaterialLayers = 64;
+// A layer's tiling is in (0, kMaxLayerTiling]: beyond, a tile is smaller than a texel of the largest map.
+inline constexpr double kMaxLayerTiling = 4096.0;
+// A layer's weights are in [0, kMaxLayerWeight]: they are relative, and their sum must stay finite.
+inline constexpr double kMaxLayerWeight = 1e6;
+
 // Parses and validates a material document. `source` names it in messages and its directory
 // resolves relative paths. Files are checked for existence here; they are read by loadLayers.
 Material parseMaterial(const nlohmann::json& document, const std::filesystem::path& source);
@@ -83,8 +91,10 @@ Material parseMaterial(const nlohmann::json& document, const std::filesystem::pa
 Material readMaterial(const std::filesystem::path& path);
 
 // Builds every layer's maps: generates patterns, reads files (RGB depth/height maps through their
-// luminance; such notes are appended to `notes`). Throws on unreadable or invalid files.
-std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<std::string>* notes = nullptr);
+// luminance; such notes are appended to `notes`). `progress` (may be empty) hears "layer i/N: label"
+// before each. Throws on unreadable or invalid files.
+std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<std::string>* notes = nullptr,
+                                         const MetaAoProgress& progress = {});
 
 // The material's texture: its layers loaded (loadLayers), composed (compose) and, unless material.ao is
 // none, its AO map made by metaReliefAo. Warnings of the composition and notes of the loaders are appended
