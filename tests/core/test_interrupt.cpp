@@ -74,6 +74,9 @@ TEST(Interrupt, StagedFilesMoveIntoPlaceInOrder) {
     std::vector<fs::path> written;
     {
         detail::StagingDir staging(dir / "out");
+        // Beside the output, so that the renames stay on its file system (a volume mounted at the
+        // output's directory works).
+        EXPECT_EQ(staging.path().parent_path(), dir.path());
         std::ofstream(staging.path() / "a.txt") << "a";
         std::ofstream(staging.path() / "strata.json") << "{}";
         written = staging.moveInto(dir / "out", {"a.txt", "strata.json"});
