@@ -71,6 +71,7 @@ struct Comparison {
     double maxAngleDeg = 0.0;
     double maxNormalDeg = 0.0;  // our normals against the ones Blender used (its custom normals are 16-bit)
     std::size_t verticesBefore = 0, verticesAfter = 0;
+    std::size_t nonUnitNormals = 0;  // reference normals that were not unit (normalised for ours)
 };
 
 double angleDeg(const glm::dvec3& a, const glm::dvec3& b) {
@@ -98,6 +99,13 @@ Comparison compareWithReference(Mesh mesh, const std::string& name) {
             result.maxNormalDeg = std::max(result.maxNormalDeg, angleDeg(v.normal, ref[c].normal));
             source = static_cast<int>(c);
             v.normal = ref[c].normal;
+            // Blender's normal at corner b of collapsed.obj's collapsed triangle is (0, 0, 0.96): ours need
+            // unit normals. That corner has no reference tangent (a placeholder), so normalising it changes
+            // nothing compared.
+            if (std::abs(glm::length(v.normal) - 1.0f) > 1e-3f) {
+                v.normal = glm::normalize(v.normal);
+                ++result.nonUnitNormals;
+            }
         } else {
             // Blender gives all corners of one of our vertices the same normal (one smooth fan).
             EXPECT_EQ(ref[static_cast<std::size_t>(source)].normal, ref[c].normal) << name << " corner " << c;
@@ -170,6 +178,29 @@ TEST(MikktspaceReference, Gltf) {
     const Comparison c = compareWithReference(loadMesh(kDataDir / "cylinder.gltf"), "cylinder");
     expectMatches(c);
     EXPECT_EQ(c.placeholders, 0u);
+}
+
+// Every corner its own vertex, straight from the reference (no loader, no repair): computeTangents must weld
+// the corners as MikkTSpace does (identical position, normal and uv) to find the same groups, and keep a
+// triangle with two corners at one position (collapsed.obj; the loader drops those) out of them.
+TEST(MikktspaceReference, RawCorners) {
+    for (const std::string name : {"teapot", "mirrored", "degenerate", "cylinder", "collapsed"}) {
+        const std::vector<ReferenceCorner> ref = readReference(name);
+        Mesh mesh;
+        mesh.name = name;
+        for (const ReferenceCorner& c : ref) {
+            mesh.indices.push_back(static_cast<std::uint32_t>(mesh.vertices.size()));
+            mesh.vertices.push_back({c.position, c.normal, c.uv, {}});
+        }
+        const Comparison c = compareWithReference(mesh, name);
+        expectMatches(c);
+        // Nothing to split: every corner is a vertex.
+        EXPECT_EQ(c.verticesAfter, c.verticesBefore) << name;
+        // No tangent in the reference: degenerate's lone collapsed-uv triangle, and collapsed's collapsed
+        // triangle (its corners' Blender normals differ from the grid's: no welded good corner to copy).
+        EXPECT_EQ(c.placeholders, name == "degenerate" || name == "collapsed" ? 3u : 0u) << name;
+        EXPECT_EQ(c.nonUnitNormals, name == "collapsed" ? 1u : 0u) << name;
+    }
 }
 
 // ---- The inputs (run once; see tests/data/mikktspace/README.md) ----
@@ -294,6 +325,18 @@ TEST(MikktspaceReference, DISABLED_WriteInputs) {
     degenerate.indices.insert(degenerate.indices.end(), {base, base + 1, base + 2});
     writeObj(degenerate, kDataDir / "degenerate.obj");
     writeGltf(makeBuiltinMesh("cylinder", {2}), kDataDir / "cylinder.gltf");
+    // Collapsed: a 3 x 2 grid plus a triangle (a, b, b') with two corners at one position: a and b are
+    // grid vertices, b' is at b's position with a's uv (so its uv area is zero). The loader drops such a
+    // triangle; MikkTSpace keeps it and would copy tangents from good triangles at the same welded vertex,
+    // but Blender's split normals at its corners are not the grid's, so none is found (RawCorners).
+    Mesh collapsed = sheet(3, 2, 0.0f, 1.0f, [](int, int, float x, float y) { return glm::vec2(x, y); });
+    const std::uint32_t a = 5, b = 6;  // interior vertex (1, 1) and its right neighbour (2, 1)
+    MeshVertex bPrime = collapsed.vertices[b];
+    bPrime.uv = collapsed.vertices[a].uv;
+    collapsed.vertices.push_back(bPrime);
+    collapsed.indices.insert(collapsed.indices.end(),
+                             {a, b, static_cast<std::uint32_t>(collapsed.vertices.size() - 1)});
+    writeObj(collapsed, kDataDir / "collapsed.obj");
 }
 
 }  // namespace
