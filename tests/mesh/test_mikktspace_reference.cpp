@@ -203,6 +203,28 @@ TEST(MikktspaceReference, RawCorners) {
     }
 }
 
+// The reference's copy for a triangle with two corners at one position, which Blender's data cannot show
+// (collapsed.obj above): each corner takes the tangent of the first good corner at the same welded vertex.
+TEST(MikktspaceReference, CollapsedTriangleCopiesFromItsWeldedVertex) {
+    Mesh mesh;
+    mesh.name = "quad + collapsed";
+    const glm::vec3 n(0, 0, 1);
+    // The unit quad (uv = (x, y)), then vertex 4: a copy of vertex 1 (welds with it).
+    mesh.vertices = {{{0, 0, 0}, n, {0, 0}, {}},
+                     {{1, 0, 0}, n, {1, 0}, {}},
+                     {{1, 1, 0}, n, {1, 1}, {}},
+                     {{0, 1, 0}, n, {0, 1}, {}},
+                     {{1, 0, 0}, n, {1, 0}, {}}};
+    mesh.indices = {0, 1, 2, 0, 2, 3, 0, 1, 4};  // the last: corners 1 and 4 at one position
+    EXPECT_EQ(computeTangents(mesh), 0u);        // nothing repaired: vertex 4 copies vertex 1's group
+    ASSERT_EQ(mesh.vertices.size(), 5u);         // one group per vertex: no split
+    for (const MeshVertex& v : mesh.vertices) {
+        // A flat quad with uv = (x, y): T = +x, w = +1, computed in double and stored as float.
+        EXPECT_LT(glm::length(glm::vec3(v.tangent) - glm::vec3(1, 0, 0)), 1e-6f);
+        EXPECT_EQ(v.tangent.w, 1.0f);
+    }
+}
+
 // ---- The inputs (run once; see tests/data/mikktspace/README.md) ----
 
 void writeObj(const Mesh& mesh, const std::filesystem::path& path) {
