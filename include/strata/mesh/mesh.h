@@ -7,7 +7,7 @@
 // increasing v). This is the MikkTSpace / glTF convention. Triangles are counter-clockwise seen from outside.
 //
 // Related headers: builtin_meshes.h (teapot, cube, sphere, ... and the unit quad of CONVENTIONS §7),
-// mesh_loader.h (OBJ / glTF files), tangent_space.h (normals and MikkTSpace-equivalent tangents),
+// mesh_loader.h (OBJ / glTF files), tangent_space.h (normals and MikkTSpace tangents),
 // mesh_repair.h (what is done to meshes from outside). docs/meshes.md has the whole story.
 #pragma once
 

@@ -22,7 +22,8 @@
 // vertex of the mesh planar uvs: the positions projected onto the plane of the bounds' two largest extents,
 // scaled by the larger into [0, 1]. That is enough for the repairs and tangents, not a texture layout.
 // Then the mesh is repaired (mesh_repair.h); a file without normals gets area-weighted smooth normals and
-// one without tangents MikkTSpace-equivalent tangents (tangent_space.h). Mesh::name is the path.
+// one without tangents MikkTSpace tangents (tangent_space.h; they can split vertices). Mesh::name is the
+// path.
 //
 // Errors (the message starts with the path):
 //   Error(Io)            the file does not exist or cannot be read;
