@@ -12,8 +12,8 @@
 #
 # The runs work in build/fuzz/runs/<target>/ (a copy of the seed corpus grows there; crashes are written there
 # as crash-*, leak-*, timeout-*, oom-*). One line per target goes to build/fuzz/runs/summary.txt: seconds,
-# executions (libFuzzer's stat::number_of_executed_units), exit status. Exit status: 0 when no target found
-# anything, 1 otherwise. Memory: -rss_limit_mb=2048 and -malloc_limit_mb=1024 (a huge declared image or mesh
+# executions, the oom-*, timeout-* and crash-*/leak-* files saved, exit status. Exit status: 0 when no
+# target crashed, 1 otherwise. Memory: -rss_limit_mb=2048 and -malloc_limit_mb=1024 (a huge declared image or mesh
 # size is refused by the readers' memory budget; see docs/fuzzing.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -58,17 +58,22 @@ for target in "${targets[@]}"; do
     cp -n fuzz/corpus/"$target"/* "$work/corpus/" 2>/dev/null || true
     log="$work/log.txt"
     set +e
-    (cd "$work" && "../../fuzz/$target" corpus -max_total_time="$seconds" -max_len=65536 -rss_limit_mb=2048 \
-        -malloc_limit_mb=1024 -timeout=10 -jobs=1 -workers=1 -print_final_stats=1) >"$log" 2>&1
+    # Fork mode, one job at a time (-fork=1): an out-of-memory input (a huge declared size, which the readers'
+    # memory budget refuses) or a timeout is saved as oom-* / timeout-* and the run goes on; a crash, a
+    # sanitizer report or a leak stops it.
+    (cd "$work" && "../../fuzz/$target" corpus -fork=1 -ignore_ooms=1 -ignore_timeouts=1 \
+        -max_total_time="$seconds" -max_len=65536 -rss_limit_mb=2048 -malloc_limit_mb=1024 -timeout=10 \
+        -print_final_stats=1) >"$log" 2>&1
     rc=$?
     set -e
-    # With -jobs=1 libFuzzer runs the fuzzing in a child process that logs to fuzz-0.log.
-    cat "$work"/fuzz-*.log >>"$log" 2>/dev/null || true
-    rm -f "$work"/fuzz-*.log
-    execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | tail -1 | grep -o '[0-9]*$' || echo 0)
-    line="$target seconds=$seconds executions=${execs:-0} rc=$rc"
+    # The fork-mode stat lines: "#<executions so far>: cov: ... oom/timeout/crash: a/b/c time: <s>s job: ...".
+    execs=$(grep -aoE '^#[0-9]+: cov' "$log" | tail -1 | grep -oE '[0-9]+' || echo 0)
+    ooms=$(find "$work" -maxdepth 1 -name 'oom-*' | wc -l)
+    timeouts=$(find "$work" -maxdepth 1 -name 'timeout-*' | wc -l)
+    crashes=$(find "$work" -maxdepth 1 \( -name 'crash-*' -o -name 'leak-*' \) | wc -l)
+    line="$target seconds=$seconds executions=${execs:-0} oom=$ooms timeout=$timeouts crash=$crashes rc=$rc"
     echo "$line" | tee -a "$summary"
-    if [[ $rc -ne 0 ]]; then
+    if [[ $rc -ne 0 || $crashes -ne 0 ]]; then
         status=1
         grep -aE 'ERROR|SUMMARY|Test unit written' "$log" | head -5 || true
     fi
