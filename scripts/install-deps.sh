@@ -22,6 +22,8 @@ packages=(
   libglfw3-dev libimgui-dev xvfb xauth
   # tests and benchmarks; glslangValidator checks every shader
   libgtest-dev libbenchmark-dev glslang-tools
+  # the `fuzz` preset (scripts/fuzz.sh, docs/fuzzing.md): clang with libFuzzer and its sanitizer runtimes
+  clang-14 libclang-rt-14-dev
 )
 
 missing=()

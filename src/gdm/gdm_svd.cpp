@@ -156,7 +156,9 @@ private:
 #pragma GCC push_options
 #pragma GCC target("avx2,fma")
 namespace avx2 {
-void addGram(const double* block, std::size_t rows, std::size_t n, double* gram) {
+// The attribute too: clang ignores `#pragma GCC target` (the fuzz build, docs/fuzzing.md, uses clang).
+__attribute__((target("avx2,fma"))) void addGram(const double* block, std::size_t rows, std::size_t n,
+                                                 double* gram) {
     for (std::size_t a = 0; a < n; a += 4)
         for (std::size_t b = 0; b < a + 4 && b < n; b += 12) {
             __m256d sum[4][3];

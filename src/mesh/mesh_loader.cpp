@@ -140,6 +140,15 @@ bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int
     return true;
 }
 
+// Element `index` of one of the model's lists; tinygltf does not check the indices that refer to them, and a
+// bad one is bad input, not std::out_of_range (found by fuzz_gltf, docs/fuzzing.md).
+template <class T>
+const T& element(const fs::path& path, const std::vector<T>& list, int index, const std::string& what) {
+    if (index < 0 || static_cast<std::size_t>(index) >= list.size())
+        invalid(path, what + " " + std::to_string(index) + " does not exist");
+    return list[static_cast<std::size_t>(index)];
+}
+
 // Reads accessor `index` as `components` floats per element (normalised integers mapped as glTF says).
 std::vector<float> readAccessor(const fs::path& path, const tinygltf::Model& model, int index, int components,
                                 const char* what) {
@@ -157,8 +166,8 @@ std::vector<float> readAccessor(const fs::path& path, const tinygltf::Model& mod
     const std::size_t count = accessor.count;
     std::vector<float> out(count * static_cast<std::size_t>(components), 0.0f);
     if (accessor.bufferView < 0) return out;  // all zeros, as the spec says
-    const tinygltf::BufferView& view = model.bufferViews.at(static_cast<std::size_t>(accessor.bufferView));
-    const tinygltf::Buffer& buffer = model.buffers.at(static_cast<std::size_t>(view.buffer));
+    const tinygltf::BufferView& view = element(path, model.bufferViews, accessor.bufferView, "buffer view");
+    const tinygltf::Buffer& buffer = element(path, model.buffers, view.buffer, "buffer");
     const int componentSize =
         tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(accessor.componentType));
     if (componentSize <= 0) invalid(path, std::string(what) + " accessor has an invalid component type");
@@ -209,12 +218,12 @@ std::vector<float> readAccessor(const fs::path& path, const tinygltf::Model& mod
 }
 
 std::vector<std::uint32_t> readIndices(const fs::path& path, const tinygltf::Model& model, int index) {
-    const tinygltf::Accessor& accessor = model.accessors.at(static_cast<std::size_t>(index));
+    const tinygltf::Accessor& accessor = element(path, model.accessors, index, "index accessor");
     if (accessor.type != TINYGLTF_TYPE_SCALAR || accessor.bufferView < 0 || accessor.sparse.isSparse) {
         invalid(path, "index accessor " + std::to_string(index) + " is not a plain scalar accessor");
     }
-    const tinygltf::BufferView& view = model.bufferViews.at(static_cast<std::size_t>(accessor.bufferView));
-    const tinygltf::Buffer& buffer = model.buffers.at(static_cast<std::size_t>(view.buffer));
+    const tinygltf::BufferView& view = element(path, model.bufferViews, accessor.bufferView, "buffer view");
+    const tinygltf::Buffer& buffer = element(path, model.buffers, view.buffer, "buffer");
     const int size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(accessor.componentType));
     if (size != 1 && size != 2 && size != 4) invalid(path, "index accessor has an invalid component type");
     const std::size_t stride = view.byteStride ? view.byteStride : static_cast<std::size_t>(size);
@@ -353,7 +362,7 @@ void appendNode(const fs::path& path, const tinygltf::Model& model, int nodeInde
     const glm::dmat4 world = parent * localMatrix(node);
     if (node.mesh >= 0) {
         for (const tinygltf::Primitive& primitive :
-             model.meshes.at(static_cast<std::size_t>(node.mesh)).primitives) {
+             element(path, model.meshes, node.mesh, "mesh").primitives) {
             appendPrimitive(path, model, primitive, world, requireUvs, raw, report);
         }
     }

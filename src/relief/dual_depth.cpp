@@ -84,7 +84,10 @@ DualDepthTexture makeDualDepth(const Mesh& mesh, Axis axis, int size) {
                                                  std::to_string(size));
     if (mesh.indices.size() < 3)
         throw Error(ErrorKind::InvalidInput, mesh.name + ": has no triangles to sample");
-    const auto [ti, bi, ni] = frameOf(axis);
+    // Plain variables, not a structured binding: the lambdas below capture them (clang 14, which builds the
+    // fuzzers, cannot capture a structured binding).
+    const std::array<int, 3> frame = frameOf(axis);
+    const int ti = frame[0], bi = frame[1], ni = frame[2];
     const Bounds bounds = meshBounds(mesh);
     const glm::dvec3 lower(bounds.min), upper(bounds.max);
     const double extentT = upper[ti] - lower[ti];

@@ -279,6 +279,31 @@ TEST(MeshLoader, GltfRefusesMissingUvsAndNonFiniteValues) {
     expectLoadError(dir / "nan.gltf", ErrorKind::InvalidInput, "non-finite");
 }
 
+// Indices that tinygltf leaves unchecked: a buffer view's buffer, an accessor's buffer view, a node's mesh.
+// Each was std::out_of_range escaping loadMesh before (fuzz_gltf and fuzz_glb found the first; the inputs are
+// in fuzz/corpus/fuzz_gltf and fuzz_glb as crash-*); now Error(InvalidInput) naming the index.
+TEST(MeshLoader, GltfRefusesIndicesOfListsThatDoNotHaveThem) {
+    ScratchDir dir("mesh-gltf-indices");
+    const auto replaced = [](std::string text, const std::string& from, const std::string& to) {
+        const auto at = text.find(from);
+        EXPECT_NE(at, std::string::npos) << from;
+        if (at != std::string::npos) text.replace(at, from.size(), to);
+        return text;
+    };
+    // No "buffers" list at all (the fuzzer's input: the key renamed), so buffer 0 does not exist.
+    writeBytes(dir / "nobuffers.gltf", replaced(gltfQuad("", true), R"("buffers")", R"("byteOff")"));
+    expectLoadError(dir / "nobuffers.gltf", ErrorKind::InvalidInput, "buffer 0 does not exist");
+    writeBytes(dir / "view.gltf",
+               replaced(gltfQuad("", true), R"({"bufferView": 1,)", R"({"bufferView": 9,)"));
+    expectLoadError(dir / "view.gltf", ErrorKind::InvalidInput, "buffer view 9 does not exist");
+    // tinygltf itself refuses a primitive's index accessor out of range (its message, through loadMesh).
+    writeBytes(dir / "indices.gltf", replaced(gltfQuad("", true), R"("indices": 2)", R"("indices": 7)"));
+    expectLoadError(dir / "indices.gltf", ErrorKind::InvalidInput, "indices accessor out of bounds");
+    writeBytes(dir / "mesh.gltf",
+               replaced(gltfQuad("", true), R"("nodes": [{"mesh": 0)", R"("nodes": [{"mesh": 3)"));
+    expectLoadError(dir / "mesh.gltf", ErrorKind::InvalidInput, "mesh 3 does not exist");
+}
+
 TEST(MeshRepair, RefusesBrokenMeshesAndRepairsTangents) {
     Mesh mesh;
     mesh.name = "test-mesh";
