@@ -41,6 +41,7 @@ void runExport(const ExportCommandOptions& o) {
         throw Error(ErrorKind::Usage, "--mesh: only the gltf preset writes a mesh, not " + o.preset);
     if (o.name.empty() || o.name.find('/') != std::string::npos)
         throw Error(ErrorKind::Usage, "--name: expected a file name without '/', got '" + o.name + "'");
+    checkExportOptions(options);
 
     const fs::path dir = fs::is_directory(o.input) ? o.input : o.input.parent_path();
     options.inputs = {dir / kSidecarName};

@@ -322,8 +322,7 @@ ExportFormat parseExportFormat(const std::string& text) {
     throw Error(ErrorKind::Usage, "--format: expected png or exr, got '" + text + "'");
 }
 
-std::vector<fs::path> exportTextureSet(const fs::path& dir, const ReliefTexture& texture,
-                                       const ExportOptions& options) {
+void checkExportOptions(const ExportOptions& options) {
     const ExportPresetSpec& spec = exportPresetSpec(options.preset);
     const NormalY normalY = options.normalY.value_or(spec.normalY);
     if (options.preset == ExportPreset::Gltf && normalY == NormalY::Down)
@@ -332,8 +331,6 @@ std::vector<fs::path> exportTextureSet(const fs::path& dir, const ReliefTexture&
     if (options.format == ExportFormat::Exr && options.preset != ExportPreset::Strata)
         throw Error(ErrorKind::Usage, "--format exr: only the strata preset writes EXR; the " + spec.name +
                                           " preset writes the PNGs its engine imports");
-    if (texture.depth.empty() || texture.normal.empty())
-        throw Error(ErrorKind::InvalidInput, dir.string() + ": a texture set needs depth and normal maps");
     auto checkUnit = [](const char* flag, double value) {
         if (!(value >= 0.0 && value <= 1.0))
             throw Error(ErrorKind::InvalidInput,
@@ -341,6 +338,15 @@ std::vector<fs::path> exportTextureSet(const fs::path& dir, const ReliefTexture&
     };
     checkUnit("--roughness", options.roughness);
     checkUnit("--metallic", options.metallic);
+}
+
+std::vector<fs::path> exportTextureSet(const fs::path& dir, const ReliefTexture& texture,
+                                       const ExportOptions& options) {
+    checkExportOptions(options);
+    const ExportPresetSpec& spec = exportPresetSpec(options.preset);
+    const NormalY normalY = options.normalY.value_or(spec.normalY);
+    if (texture.depth.empty() || texture.normal.empty())
+        throw Error(ErrorKind::InvalidInput, dir.string() + ": a texture set needs depth and normal maps");
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
         throw Error(ErrorKind::Io, dir.string() + ": exists and is not a directory");

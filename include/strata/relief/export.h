@@ -68,6 +68,11 @@ struct ExportOptions {
     std::vector<std::filesystem::path> inputs;  // files that must not be overwritten
 };
 
+// The checks of exportTextureSet that need no texture (the CLI runs them before reading the set): throws
+// Error(Usage) for gltf with NormalY::Down or EXR with an engine preset, Error(InvalidInput) for roughness or
+// metallic outside [0, 1].
+void checkExportOptions(const ExportOptions& options);
+
 // Writes `texture` into `dir` in the preset's layout. Returns the files written (the manifest last).
 // Throws Error(Usage) for a combination the preset cannot write (gltf with --normal-y down, EXR for an
 // engine preset), Error(InvalidInput) for a texture without depth or normals or roughness/metallic
