@@ -24,7 +24,7 @@ namespace strata {
 
 namespace {
 
-const char* kGltfSource = "glTF 2.0 Specification (Khronos), section 3.9 Materials";
+const char* kGltfSource = "glTF 2.0 Specification (Khronos): Materials, Meshes";
 const char* kHdrpSources[] = {"Unity HDRP manual: Lit Shader", "Unity HDRP manual: Mask and Detail maps"};
 const char* kUnrealSources[] = {"Unreal Engine documentation: Physically Based Materials",
                                 "Unreal Engine documentation: Texture Format Support and Settings"};
