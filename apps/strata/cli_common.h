@@ -26,6 +26,7 @@ void addCompareCommand(CLI::App& app);
 void addDualDepthCommand(CLI::App& app);
 void addConeMapCommand(CLI::App& app);
 void addMesoCommand(CLI::App& app);
+void addExportCommand(CLI::App& app);
 // `strata gdm` and its subcommands (cmd_gdm.cpp registers `bake`, and `trace` from cmd_gdm_trace.cpp).
 void addGdmCommand(CLI::App& app);
 void addGdmTraceCommand(CLI::App& gdm);

@@ -61,8 +61,7 @@ DepthInput readInput(const AoOptions& options, double* depthScale) {
 }
 
 void runAo(const AoOptions& options) {
-    if (!isPngName(options.output))
-        throw Error(ErrorKind::Usage, "ao: -o must name a .png file, got " + options.output.string());
+    checkOutputExtension(options.output, "ao: -o", {ImageFormat::Png});
     const fs::path sidecarPath = sidecarPathFor(options.output);
 
     // Read and bake everything before writing anything.

@@ -26,6 +26,8 @@ struct CompareOptions {
 constexpr int kGap = 6;
 
 void runCompare(CompareOptions options) {
+    checkOutputExtension(options.output, "compare: -o",
+                         {ImageFormat::Png, ImageFormat::Exr, ImageFormat::Jpeg});
     SceneFlags& f = options.scene;
     if (f.sceneFile.empty()) {
         // The paper's Fig. 19 setting: one polygon, a relief with sharp and smooth features, a low view.
@@ -62,7 +64,7 @@ void runCompare(CompareOptions options) {
     if (!options.output.parent_path().empty()) fs::create_directories(options.output.parent_path());
     PngWriteOptions png;
     png.bitDepth = PngBitDepth::Eight;
-    writePng(options.output, sheet, png);
+    writeImage(options.output, sheet, png);
     std::cout << "wrote " << options.output.string() << " (normal | parallax | relief; "
               << panels.back().summary << ")\n";
 }

@@ -36,8 +36,7 @@ struct ConeMapCommandOptions {
 };
 
 void runConeMap(const ConeMapCommandOptions& options) {
-    if (!isPngName(options.output))
-        throw Error(ErrorKind::Usage, "cone-map: -o must name a .png file, got " + options.output.string());
+    checkOutputExtension(options.output, "cone-map: -o", {ImageFormat::Png});
     const fs::path sidecarPath = sidecarPathFor(options.output);
 
     progress("reading " + options.input.string());

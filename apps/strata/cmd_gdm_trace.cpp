@@ -160,9 +160,8 @@ void runGdmTrace(const GdmTraceOptions& options) {
         throw Error(ErrorKind::Io, options.asset.string() + ": not a GDM asset (it has no " +
                                        std::string(kGdmAssetSidecar) + ")");
     refuseToOverwriteInputs(options.file, assetFiles(options.asset));
-    if (!isPngName(options.file))
-        throw Error(ErrorKind::Usage,
-                    "gdm trace: -o must name a .png file (a 16-bit PNG), got " + options.file.string());
+    checkOutputExtension(options.file, "gdm trace: -o",
+                         {ImageFormat::Png, ImageFormat::Exr, ImageFormat::Jpeg});
 
     const auto start = std::chrono::steady_clock::now();
     progress("reading " + options.asset.string());
@@ -265,7 +264,7 @@ void runGdmTrace(const GdmTraceOptions& options) {
     png.bitDepth = output == TraceOutput::Shaded ? PngBitDepth::Eight : PngBitDepth::Sixteen;
     png.dither = output == TraceOutput::Shaded;
     if (!options.file.parent_path().empty()) fs::create_directories(options.file.parent_path());
-    writePng(options.file, picture, png);
+    writeImage(options.file, picture, png);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::ostringstream summary;
     summary << asset.source << ", " << what << ", " << options.output << ", " << pixels << ", "

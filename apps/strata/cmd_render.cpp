@@ -33,6 +33,7 @@ void runRender(const RenderOptions& options) {
                                                                   : fs::path(scene.mesh).stem().string();
         output = fs::path("out") / (stem + ".png");
     }
+    checkOutputExtension(output, "render: -o", {ImageFormat::Png, ImageFormat::Exr, ImageFormat::Jpeg});
     RenderedScene rendered = std::move(renderScene(scene).front());
     refuseToOverwriteInputs(output, rendered.inputs);
     const bool verification = !scene.depthMap.empty() || scene.picture.output != RenderOutput::Shaded;
@@ -42,7 +43,7 @@ void runRender(const RenderOptions& options) {
     // Debug outputs are values, not colours: never dithered (CONVENTIONS §7).
     png.dither = scene.picture.output == RenderOutput::Shaded;
     if (!output.parent_path().empty()) fs::create_directories(output.parent_path());
-    writePng(output, rendered.image, png);
+    writeImage(output, rendered.image, png);
     std::cout << "wrote " << output.string() << " (" << rendered.summary << ")\n";
 }
 

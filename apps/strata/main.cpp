@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
     strata::cli::addDualDepthCommand(app);
     strata::cli::addConeMapCommand(app);
     strata::cli::addMesoCommand(app);
+    strata::cli::addExportCommand(app);
     strata::cli::addGdmCommand(app);
 
     try {

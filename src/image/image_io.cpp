@@ -16,6 +16,7 @@
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #pragma GCC diagnostic push
@@ -25,6 +26,7 @@
 #pragma GCC diagnostic ignored "-Wpedantic"
 #include <png.h>
 #include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
 #include <tinyexr.h>
 #pragma GCC diagnostic pop
 
@@ -822,12 +824,54 @@ void writeExr(const fs::path& path, const Image& image) {
     writeFileAtomic(path, [&](const fs::path& tmp) { writeExrFile(path, tmp, image); });
 }
 
-void writeImage(const fs::path& path, const Image& image, const PngWriteOptions& options) {
+void writeJpeg(const fs::path& path, const Image& image, int quality) {
+    STRATA_CHECK(!image.empty());
+    STRATA_CHECK(quality >= 1 && quality <= 100);
+    // JPEG has no alpha: a gray+alpha or RGBA image is written as its gray or RGB channels.
+    const Image colour = image.channels() == 2   ? extractChannel(image, 0)
+                         : image.channels() == 4 ? toRgb(image)
+                                                 : image;
+    const std::vector<png_byte> data = quantizeForPng(colour, PngWriteOptions{PngBitDepth::Eight, true});
+    writeFileAtomic(path, [&](const fs::path& tmp) {
+        if (stbi_write_jpg(tmp.c_str(), colour.width(), colour.height(), colour.channels(), data.data(),
+                           quality) == 0)
+            fail(ErrorKind::Io, path, "cannot write the JPEG");
+    });
+}
+
+std::optional<ImageFormat> outputFormatOf(const fs::path& path) {
     const std::string ext = lowerCaseExtension(path);
-    if (ext == ".png") return writePng(path, image, options);
-    if (ext == ".exr") return writeExr(path, image);
+    if (ext == ".png") return ImageFormat::Png;
+    if (ext == ".exr") return ImageFormat::Exr;
+    if (ext == ".jpg" || ext == ".jpeg") return ImageFormat::Jpeg;
+    return std::nullopt;
+}
+
+ImageFormat checkOutputExtension(const fs::path& path, const std::string& flag,
+                                 std::initializer_list<ImageFormat> allowed) {
+    const std::optional<ImageFormat> format = outputFormatOf(path);
+    for (ImageFormat a : allowed)
+        if (format && *format == a) return a;
+    std::string names;
+    std::size_t i = 0;
+    for (ImageFormat a : allowed) {
+        names += i == 0 ? "" : (i + 1 == allowed.size() ? " or " : ", ");
+        names += a == ImageFormat::Png ? ".png" : a == ImageFormat::Exr ? ".exr" : ".jpg";
+        ++i;
+    }
+    const std::string ext = lowerCaseExtension(path);
+    throw Error(ErrorKind::Usage, flag + " " + path.string() + ": cannot write " +
+                                      (ext.empty() ? std::string("a file without an extension") : ext) +
+                                      "; use " + names);
+}
+
+void writeImage(const fs::path& path, const Image& image, const PngWriteOptions& options) {
+    const std::optional<ImageFormat> format = outputFormatOf(path);
+    if (format == ImageFormat::Png) return writePng(path, image, options);
+    if (format == ImageFormat::Exr) return writeExr(path, image);
+    if (format == ImageFormat::Jpeg) return writeJpeg(path, image);
     fail(ErrorKind::Unsupported, path,
-         "cannot write '" + ext + "' files: the extension must be .png or .exr");
+         "cannot write '" + lowerCaseExtension(path) + "' files: the extension must be .png, .exr or .jpg");
 }
 
 }  // namespace strata

@@ -335,7 +335,8 @@ TEST(Exr, WriteImageChoosesByExtensionCaseInsensitively) {
     writeImage(dir / "b.Png", source, {PngBitDepth::Eight, false});
     EXPECT_EQ(readImageInfo(dir / "b.Png").format, ImageFormat::Png);
     EXPECT_EQ(readImageInfo(dir / "b.Png").bitDepth, 8);
-    expectError([&] { writeImage(dir / "c.jpg", source); }, ErrorKind::Unsupported, dir / "c.jpg", ".jpg");
+    // .jpg has a writer now (test_image_write_formats.cpp); a format without one is refused.
+    expectError([&] { writeImage(dir / "c.tif", source); }, ErrorKind::Unsupported, dir / "c.tif", ".tif");
     expectError([&] { writeImage(dir / "noext", source); }, ErrorKind::Unsupported, dir / "noext");
     EXPECT_EQ(test::countEntries(dir.path()), 2);
 }

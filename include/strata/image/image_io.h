@@ -23,6 +23,8 @@
 #include "strata/image/image.h"
 
 #include <filesystem>
+#include <initializer_list>
+#include <optional>
 #include <string>
 
 namespace strata {
@@ -65,7 +67,21 @@ void writePng(const std::filesystem::path& path, const Image& image, const PngWr
 // RGB or RGBA), values as they are (no clamping). Atomic.
 void writeExr(const std::filesystem::path& path, const Image& image);
 
-// Writes PNG or EXR, chosen by the extension (.png / .exr, case-insensitive);
+// Writes an 8-bit baseline JPEG (stb_image_write, Debian's libstb) of a 1- or 3-channel image (2 and 4
+// channels: the alpha is dropped), values clamped to [0, 1], quantised with the 8-bit dither above. Atomic.
+void writeJpeg(const std::filesystem::path& path, const Image& image, int quality = 95);
+
+// The format an output file's extension names (case-insensitive): .png, .exr, .jpg or .jpeg; none otherwise.
+std::optional<ImageFormat> outputFormatOf(const std::filesystem::path& path);
+
+// Checks an output file's extension before any work: returns its format if it is one of `allowed`, else
+// throws Error(Usage) "<flag> <path>: cannot write .<ext>; use .png or .exr" (the allowed ones listed).
+// Every command that takes `-o FILE` calls it first, so that a file named .jpg is a JPEG or an error,
+// never PNG bytes under another name.
+ImageFormat checkOutputExtension(const std::filesystem::path& path, const std::string& flag,
+                                 std::initializer_list<ImageFormat> allowed);
+
+// Writes PNG, EXR or JPEG, chosen by the extension (.png / .exr / .jpg, .jpeg; case-insensitive);
 // any other extension throws Error(Unsupported).
 void writeImage(const std::filesystem::path& path, const Image& image, const PngWriteOptions& options = {});
 
