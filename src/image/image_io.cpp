@@ -856,10 +856,10 @@ Image readExr(const fs::path& path, const Bytes& bytes) {
         const int source = parsed.order[at % static_cast<std::size_t>(channels)];
         fail(ErrorKind::InvalidInput, path,
              "EXR channel " + std::string(header->channels[source].name) + " holds " +
-                 formatNumber(static_cast<double>(*bad)) + " at texel (" +
-                 std::to_string(texel % static_cast<std::size_t>(parsed.width)) + ", " +
+                 formatNumber(static_cast<double>(*bad)) + " at column " +
+                 std::to_string(texel % static_cast<std::size_t>(parsed.width)) + ", row " +
                  std::to_string(texel / static_cast<std::size_t>(parsed.width)) +
-                 ") (x, y, row 0 at the top); only finite values are read");
+                 " (row 0 is the top); only finite values are read");
     }
     return image;
 }

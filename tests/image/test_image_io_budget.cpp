@@ -87,16 +87,18 @@ TEST(ExrFiniteValues, NanAndInfinityAreErrorsNamingTheFirstTexel) {
     normals.at(6, 3, 0) = std::numeric_limits<float>::infinity();
     writeExr(dir / "n.exr", normals);
     ErrorKind kind = ErrorKind::Runtime;
-    EXPECT_EQ(readError(dir / "n.exr", &kind), (dir / "n.exr").string() +
-                                                   ": EXR channel G holds nan at texel (5, 2) (x, y, row 0 "
-                                                   "at the top); only finite values are read");
+    EXPECT_EQ(
+        readError(dir / "n.exr", &kind),
+        (dir / "n.exr").string() +
+            ": EXR channel G holds nan at column 5, row 2 (row 0 is the top); only finite values are read");
     EXPECT_EQ(kind, ErrorKind::InvalidInput);
     Image depth(4, 4, 1, 0.1f);
     depth.at(0, 3) = -std::numeric_limits<float>::infinity();
     writeExr(dir / "d.exr", depth);
-    EXPECT_EQ(readError(dir / "d.exr", &kind), (dir / "d.exr").string() +
-                                                   ": EXR channel Y holds -inf at texel (0, 3) (x, y, row 0 "
-                                                   "at the top); only finite values are read");
+    EXPECT_EQ(
+        readError(dir / "d.exr", &kind),
+        (dir / "d.exr").string() +
+            ": EXR channel Y holds -inf at column 0, row 3 (row 0 is the top); only finite values are read");
 }
 
 void appendBytes(void* context, void* data, int size) {
