@@ -186,8 +186,9 @@ bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int
 }
 
 // Reads accessor `index` as `components` floats per element (normalised integers mapped as glTF says).
+// `expectedCount`: the primitive's vertex count (its POSITION's), checked before anything is allocated.
 std::vector<float> readAccessor(const fs::path& path, const tinygltf::Model& model, int index, int components,
-                                const char* what) {
+                                const char* what, std::size_t expectedCount = SIZE_MAX) {
     if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size()) {
         invalid(path, std::string(what) + " accessor " + std::to_string(index) + " does not exist");
     }
@@ -200,6 +201,13 @@ std::vector<float> readAccessor(const fs::path& path, const tinygltf::Model& mod
         invalid(path, std::string(what) + " accessor " + std::to_string(index) + " has the wrong type");
     }
     const std::size_t count = accessor.count;
+    if (expectedCount != SIZE_MAX && count != expectedCount)
+        invalid(path, "a primitive's attributes have different counts");
+    // Positions without a buffer view would all be 0: every triangle degenerate, refused later anyway, so
+    // refused here before a count that costs nothing to write in JSON costs memory.
+    if (accessor.bufferView < 0 && std::strcmp(what, "POSITION") == 0)
+        invalid(path, "POSITION accessor " + std::to_string(index) + " of " + std::to_string(count) +
+                          " elements has no buffer view (every position would be 0)");
     // The floats read here and a vertex per element later, against the budget before either exists:
     // an accessor without a buffer view (all zeros) can declare any count in a few bytes of JSON.
     reserveOrThrow(saturatingMultiply(count, static_cast<std::uint64_t>(components) * sizeof(float) +
@@ -330,16 +338,18 @@ void appendPrimitive(const fs::path& path, const tinygltf::Model& model, const t
     if (!hasUvs && requireUvs) noTexCoords(path);
     const std::vector<float> positions = readAccessor(path, model, attribute("POSITION"), 3, "POSITION");
     const std::size_t count = positions.size() / 3;
-    const std::vector<float> uvs = hasUvs
-                                       ? readAccessor(path, model, attribute("TEXCOORD_0"), 2, "TEXCOORD_0")
-                                       : std::vector<float>(2 * count, 0.0f);
+    const std::vector<float> uvs =
+        hasUvs ? readAccessor(path, model, attribute("TEXCOORD_0"), 2, "TEXCOORD_0", count)
+               : std::vector<float>(2 * count, 0.0f);
     raw.missingUvs = raw.missingUvs || !hasUvs;
     const bool hasNormals = attribute("NORMAL") >= 0;
     const bool hasTangents = attribute("TANGENT") >= 0;
     const std::vector<float> normals =
-        hasNormals ? readAccessor(path, model, attribute("NORMAL"), 3, "NORMAL") : std::vector<float>();
+        hasNormals ? readAccessor(path, model, attribute("NORMAL"), 3, "NORMAL", count)
+                   : std::vector<float>();
     const std::vector<float> tangents =
-        hasTangents ? readAccessor(path, model, attribute("TANGENT"), 4, "TANGENT") : std::vector<float>();
+        hasTangents ? readAccessor(path, model, attribute("TANGENT"), 4, "TANGENT", count)
+                    : std::vector<float>();
     if (uvs.size() / 2 != count || (hasNormals && normals.size() / 3 != count) ||
         (hasTangents && tangents.size() / 4 != count)) {
         invalid(path, "a primitive's attributes have different counts");

@@ -170,22 +170,44 @@ TEST(CliBudget, ATruncatedJpegWithAnEndMarkerAppendedIsCorrupt) {
                       ": corrupt or truncated JPEG: Corrupt JPEG data: premature end of data segment");
 }
 
-TEST(CliBudget, AGltfAccessorOf400MillionElementsIsRefusedByTheBudget) {
+TEST(CliBudget, AGltfAccessorOf400MillionElementsIsRefusedBeforeAllocating) {
     test::ScratchDir dir("budget-gltf");
     // Positions without a buffer view are all zeros by the glTF spec: any count in a few bytes of JSON.
-    const std::string gltf = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "scene": 0,
- "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    const std::string header = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "scene": 0,
+ "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],)";
+    const std::string gltf = header + R"(
  "accessors": [{"componentType": 5126, "count": 400000000, "type": "VEC3",
                 "min": [0, 0, 0], "max": [0, 0, 0]}]})";
     test::writeBytes(dir / "huge.gltf", gltf);
     ASSERT_LT(gltf.size(), 800u);
-    // --max-memory makes the refusal independent of this machine's memory (the default is half of it).
-    expectRefused(runMeasured({"--max-memory", "1G", "dual-depth", "--mesh", quoted(dir / "huge.gltf"), "-o",
-                               quoted(dir / "out")},
-                              dir.path()),
-                  5,
-                  "strata: error: " + (dir / "huge.gltf").string() +
-                      ": POSITION accessor 0 of 400000000 elements needs ");
+    expectRefused(
+        runMeasured({"dual-depth", "--mesh", quoted(dir / "huge.gltf"), "-o", quoted(dir / "out")},
+                    dir.path()),
+        3,
+        "strata: error: " + (dir / "huge.gltf").string() +
+            ": POSITION accessor 0 of 400000000 elements has no buffer view (every position would be 0)");
+    EXPECT_FALSE(fs::exists(dir / "out"));
+    // The same count over a 12-byte buffer: refused by the budget (or, within it, as running past the
+    // buffer). --max-memory makes the case independent of this machine's memory.
+    test::writeBytes(dir / "view.gltf", header + R"(
+ "buffers": [{"byteLength": 12, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAA"}],
+ "bufferViews": [{"buffer": 0, "byteLength": 12}],
+ "accessors": [{"bufferView": 0, "componentType": 5126, "count": 400000000, "type": "VEC3",
+                "min": [0, 0, 0], "max": [0, 0, 0]}]})");
+    // 400 M x (12 bytes of floats + a 48-byte vertex + 2 bytes of flags) = 23.10 GiB.
+    expectRefused(
+        runMeasured({"--max-memory", "1G", "dual-depth", "--mesh", quoted(dir / "view.gltf"), "-o",
+                     quoted(dir / "out")},
+                    dir.path()),
+        5,
+        "strata: error: " + (dir / "view.gltf").string() +
+            ": POSITION accessor 0 of 400000000 elements needs 23.10 GiB, more than the memory budget "
+            "of 1.00 GiB (--max-memory)");
+    expectRefused(
+        runMeasured({"--max-memory", "64G", "dual-depth", "--mesh", quoted(dir / "view.gltf"), "-o",
+                     quoted(dir / "out")},
+                    dir.path()),
+        3, "strata: error: " + (dir / "view.gltf").string() + ": POSITION accessor 0 runs past its buffer");
     EXPECT_FALSE(fs::exists(dir / "out"));
 }
 

@@ -80,11 +80,29 @@ TEST_F(MeshBudget, AnObjOverTheBudgetIsRefusedBeforeParsing) {
         << message;
 }
 
-TEST_F(MeshBudget, AGltfAccessorWithAHugeCountIsRefusedBeforeAllocating) {
-    ScratchDir dir("gltf-budget");
+TEST(GltfPositions, AnAccessorWithoutABufferViewIsRefusedBeforeAllocating) {
+    ScratchDir dir("gltf-no-view");
+    // All-zero positions by the glTF spec: any count in a few bytes of JSON, and a degenerate mesh.
     writeBytes(dir / "huge.gltf", R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "scene": 0,
  "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
  "accessors": [{"componentType": 5126, "count": 400000000, "type": "VEC3",
+                "min": [0, 0, 0], "max": [0, 0, 0]}]})");
+    ErrorKind kind = ErrorKind::Runtime;
+    EXPECT_EQ(
+        loadError(dir / "huge.gltf", &kind),
+        (dir / "huge.gltf").string() +
+            ": POSITION accessor 0 of 400000000 elements has no buffer view (every position would be 0)");
+    EXPECT_EQ(kind, ErrorKind::InvalidInput);
+}
+
+TEST_F(MeshBudget, AGltfAccessorWithAHugeCountIsRefusedBeforeAllocating) {
+    ScratchDir dir("gltf-budget");
+    // 400 M positions declared over a 12-byte buffer: the budget refuses before the bounds check.
+    writeBytes(dir / "huge.gltf", R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "scene": 0,
+ "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+ "buffers": [{"byteLength": 12, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAA"}],
+ "bufferViews": [{"buffer": 0, "byteLength": 12}],
+ "accessors": [{"bufferView": 0, "componentType": 5126, "count": 400000000, "type": "VEC3",
                 "min": [0, 0, 0], "max": [0, 0, 0]}]})");
     setMemoryBudget(std::uint64_t{1} << 30);
     ErrorKind kind = ErrorKind::Runtime;
