@@ -1,7 +1,8 @@
 # Every dependency comes from a Debian 12 package; scripts/install-deps.sh installs them all.
 find_package(PkgConfig REQUIRED)
 find_package(PNG REQUIRED)                      # libpng-dev
-pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)   # libstb-dev: JPEG/TGA/BMP decoding
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)   # libstb-dev: TGA/BMP decoding
+find_package(JPEG REQUIRED)                     # libjpeg62-turbo-dev: JPEG decoding that reports corrupt data
 find_package(tinyexr REQUIRED)                  # libtinyexr-dev
 find_package(glm REQUIRED)                      # libglm-dev
 find_package(Eigen3 REQUIRED NO_MODULE)         # libeigen3-dev

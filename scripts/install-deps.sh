@@ -9,6 +9,9 @@ packages=(
   cmake ninja-build g++-12 pkg-config
   # core libraries
   libpng-dev libstb-dev libtinyexr-dev libglm-dev libeigen3-dev libcli11-dev nlohmann-json3-dev libtbb-dev
+  # JPEG decoding: libjpeg-turbo's error manager reports corrupt data and a premature end, which stb_image
+  # decodes as grey without a word
+  libjpeg62-turbo-dev
   # meshes
   libtinyobjloader-dev libtinygltf-dev
   # generalized displacement maps: Embree 3 ray casting, OpenVDB level sets (its CMake module needs Boost),

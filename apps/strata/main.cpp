@@ -8,6 +8,7 @@
 
 #include "strata/core/error.h"
 #include "strata/core/interrupt.h"
+#include "strata/core/memory_budget.h"
 #include "strata/core/version.h"
 
 #include <iostream>
@@ -21,6 +22,13 @@ int main(int argc, char** argv) {
         "rendering"};
     app.set_version_flag("--version", std::string("strata ") + strata::kVersion);
     app.require_subcommand(1);
+    // The memory budget (docs/cli.md): before the subcommand, e.g. `strata --max-memory 2G ao ...`.
+    app.add_option_function<std::string>(
+           "--max-memory",
+           [](const std::string& text) { strata::setMemoryBudget(strata::parseMemorySize(text)); },
+           "Refuse inputs and outputs that need more memory than SIZE (e.g. 512M, 4G); default half of "
+           "physical memory")
+        ->type_name("SIZE");
     app.footer(
         "Exit codes: 0 ok, 1 usage, 2 I/O, 3 invalid input, 4 runtime, 5 unsupported. See docs/cli.md.");
     strata::cli::addPatternCommand(app);

@@ -1,6 +1,7 @@
 #include "strata/image/image.h"
 
 #include "strata/core/check.h"
+#include "strata/core/memory_budget.h"
 
 #include <sys/mman.h>
 #include <algorithm>
@@ -45,6 +46,9 @@ Image::Image(int width, int height, int channels, UninitializedTag)
     STRATA_CHECK_LE(height, kMaxDimension);
     STRATA_CHECK_GE(channels, 1);
     STRATA_CHECK_LE(channels, 4);
+    checkAllocation(width, height, channels, sizeof(float),
+                    "a " + std::to_string(width) + " x " + std::to_string(height) + " image of " +
+                        std::to_string(channels) + (channels == 1 ? " channel" : " channels"));
     mPixels.resize(static_cast<std::size_t>(width) * height * channels);
 }
 

@@ -3,6 +3,7 @@
 #include "strata/core/check.h"
 #include "strata/core/error.h"
 #include "strata/core/file.h"
+#include "strata/core/memory_budget.h"
 #include "strata/image/image_ops.h"
 #include "strata/image/quantize.h"
 
@@ -10,6 +11,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <csetjmp>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -24,6 +26,7 @@
 #pragma GCC diagnostic ignored "-Wconversion"
 #pragma GCC diagnostic ignored "-Wsign-conversion"
 #pragma GCC diagnostic ignored "-Wpedantic"
+#include <jpeglib.h>
 #include <png.h>
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
@@ -58,6 +61,18 @@ void checkDimensions(const fs::path& path, ImageFormat format, long long width, 
              std::string(toString(format)) + " image is " + dimensions(width, height) +
                  ", larger than the maximum of " + std::to_string(Image::kMaxDimension) +
                  " texels in either direction");
+}
+
+// The budget check of a reader: the decoded float image plus `extraBytes` of decoder buffers, before
+// either exists. The message names the file and what its header declares.
+void checkReadBudget(const fs::path& path, ImageFormat format, long long width, long long height,
+                     int channels, std::uint64_t extraBytes) {
+    const std::uint64_t image = saturatingMultiply(
+        saturatingMultiply(static_cast<std::uint64_t>(width), static_cast<std::uint64_t>(height)),
+        static_cast<std::uint64_t>(channels) * sizeof(float));
+    reserveOrThrow(image + extraBytes, path.string() + ": a " + dimensions(width, height) + " " +
+                                           toString(format) + " of " + std::to_string(channels) +
+                                           (channels == 1 ? " channel" : " channels"));
 }
 
 unsigned readLe16(const Bytes& b, std::size_t at) {
@@ -318,6 +333,18 @@ Image readPng(const fs::path& path, const Bytes& bytes) {
 
     const int width = static_cast<int>(header.width);
     const int height = static_cast<int>(header.height);
+    // Deflate expands at most 1032:1, so image data larger than 1032 times the whole file (plus the
+    // filter byte of every row) cannot be in it: a header that claims more is refused before decoding
+    // (a 69-byte file claiming 16384^2 RGBA16 would otherwise cost 4 GiB before it fails).
+    const std::uint64_t rawBytes =
+        saturatingMultiply(layout.rowBytes + 1, static_cast<std::uint64_t>(height));
+    if (rawBytes / 1032 > bytes.size())
+        fail(ErrorKind::InvalidInput, path,
+             "truncated PNG: the header declares " + dimensions(width, height) + " (" +
+                 formatBytes(rawBytes) + " of image data), more than a " + std::to_string(bytes.size()) +
+                 "-byte file can hold");
+    checkReadBudget(path, ImageFormat::Png, width, height, layout.channels,
+                    layout.rowBytes * (layout.passes > 1 ? static_cast<std::uint64_t>(height) : 1));
     Image image(width, height, layout.channels);
     std::vector<png_byte> buffer(layout.rowBytes *
                                  (layout.passes > 1 ? static_cast<std::size_t>(height) : 1));
@@ -513,9 +540,13 @@ ImageInfo stbInfo(const fs::path& path, ImageFormat format, const Bytes& bytes) 
 Image readStb(const fs::path& path, ImageFormat format, const Bytes& bytes) {
     const ImageInfo info = stbInfo(path, format, bytes);
     const std::size_t expected = expectedUncompressedSize(format, bytes);
-    if (expected > bytes.size() || (format == ImageFormat::Jpeg && !jpegHasEnd(bytes)))
+    if (expected > bytes.size())
         fail(ErrorKind::InvalidInput, path,
              std::string("truncated ") + toString(format) + " data (the file ends early)");
+    // stb_image's 8-bit buffer, then the float image.
+    checkReadBudget(path, format, info.width, info.height, info.channels,
+                    static_cast<std::uint64_t>(info.width) * static_cast<std::uint64_t>(info.height) *
+                        static_cast<std::uint64_t>(info.channels));
     int width = 0;
     int height = 0;
     int channels = 0;
@@ -532,6 +563,134 @@ Image readStb(const fs::path& path, ImageFormat format, const Bytes& bytes) {
     Image image(width, height, channels);
     const std::span<float> pixels = image.pixels();
     for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<float>(data.get()[i]) / 255.0f;
+    return image;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// JPEG through libjpeg-turbo, whose error manager reports corrupt data and a premature end, where
+// stb_image decodes a damaged file as grey without a word. Like libpng above, errors longjmp back to
+// the stage that called libjpeg; those stages hold only trivially destructible locals. Every libjpeg
+// warning (corrupt data, premature end, extraneous bytes, an inconsistent progression) is an error.
+
+struct JpegErrorState {
+    jpeg_error_mgr manager;  // first: libjpeg's cinfo->err points here
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX];
+};
+
+[[noreturn]] void jpegErrorExit(j_common_ptr cinfo) {
+    auto* state = reinterpret_cast<JpegErrorState*>(cinfo->err);
+    (*cinfo->err->format_message)(cinfo, state->message);
+    std::longjmp(state->jump, 1);
+}
+
+void jpegEmitMessage(j_common_ptr cinfo, int level) {
+    if (level < 0) jpegErrorExit(cinfo);  // a warning: the data is corrupt or cut short
+}
+
+class JpegReadStruct {
+public:
+    JpegReadStruct() {
+        mCinfo.err = jpeg_std_error(&mErrors.manager);
+        mErrors.manager.error_exit = jpegErrorExit;
+        mErrors.manager.emit_message = jpegEmitMessage;
+        mErrors.message[0] = '\0';
+    }
+    ~JpegReadStruct() {
+        if (mCreated) jpeg_destroy_decompress(&mCinfo);
+    }
+    JpegReadStruct(const JpegReadStruct&) = delete;
+    JpegReadStruct& operator=(const JpegReadStruct&) = delete;
+
+    jpeg_decompress_struct* cinfo() { return &mCinfo; }
+    std::jmp_buf& jump() { return mErrors.jump; }
+    std::string message() const { return mErrors.message; }
+    void setCreated() { mCreated = true; }
+
+private:
+    jpeg_decompress_struct mCinfo{};
+    JpegErrorState mErrors{};
+    bool mCreated = false;
+};
+
+struct JpegHeader {
+    int width;
+    int height;
+    int components;
+    bool cmyk;
+    bool arithmetic;
+};
+
+// Stage 1: the markers up to the first scan. Allocates nothing proportional to the image.
+bool jpegReadHeader(JpegReadStruct& s, const Bytes& bytes, JpegHeader* header) {
+    if (setjmp(s.jump())) return false;
+    jpeg_create_decompress(s.cinfo());
+    s.setCreated();
+    jpeg_mem_src(s.cinfo(), bytes.data(), static_cast<unsigned long>(bytes.size()));
+    jpeg_read_header(s.cinfo(), TRUE);
+    header->width = static_cast<int>(s.cinfo()->image_width);
+    header->height = static_cast<int>(s.cinfo()->image_height);
+    header->components = s.cinfo()->num_components;
+    header->cmyk = s.cinfo()->jpeg_color_space == JCS_CMYK || s.cinfo()->jpeg_color_space == JCS_YCCK;
+    header->arithmetic = s.cinfo()->arith_code != FALSE;
+    return true;
+}
+
+struct JpegDecodePlan {
+    unsigned char* row;  // one output row of width * channels bytes
+    int width;
+    int height;
+    int channels;
+    float* pixels;
+};
+
+// Stage 2: every scanline, then the markers to the end of the image.
+bool jpegDecode(JpegReadStruct& s, const JpegDecodePlan& plan) {
+    if (setjmp(s.jump())) return false;
+    s.cinfo()->out_color_space = plan.channels == 1 ? JCS_GRAYSCALE : JCS_RGB;
+    jpeg_start_decompress(s.cinfo());
+    const auto values = static_cast<std::size_t>(plan.width) * static_cast<std::size_t>(plan.channels);
+    while (s.cinfo()->output_scanline < s.cinfo()->output_height) {
+        const auto y = static_cast<std::size_t>(s.cinfo()->output_scanline);
+        JSAMPROW rows[1] = {plan.row};
+        jpeg_read_scanlines(s.cinfo(), rows, 1);
+        float* out = plan.pixels + y * values;
+        for (std::size_t i = 0; i < values; ++i) out[i] = static_cast<float>(plan.row[i]) / 255.0f;
+    }
+    jpeg_finish_decompress(s.cinfo());
+    return true;
+}
+
+Image readJpeg(const fs::path& path, const Bytes& bytes) {
+    if (!jpegHasEnd(bytes)) fail(ErrorKind::InvalidInput, path, "truncated JPEG data (the file ends early)");
+    JpegReadStruct s;
+    JpegHeader header{};
+    if (!jpegReadHeader(s, bytes, &header))
+        fail(ErrorKind::InvalidInput, path, "corrupt JPEG header: " + s.message());
+    checkDimensions(path, ImageFormat::Jpeg, header.width, header.height);
+    if (header.cmyk || (header.components != 1 && header.components != 3))
+        fail(ErrorKind::Unsupported, path,
+             "JPEG with " + std::to_string(header.components) + " components" +
+                 (header.cmyk ? " (CMYK)" : "") + " (only grayscale and colour are read)");
+    // Every 8 x 8 block of the first component costs at least one bit of entropy-coded data (its DC
+    // code) with Huffman coding, so a file smaller than that cannot hold the image its header declares.
+    // (Arithmetic coding can go below a bit per block, so it is not bounded here.)
+    const std::uint64_t blocks = static_cast<std::uint64_t>((header.width + 7) / 8) *
+                                 static_cast<std::uint64_t>((header.height + 7) / 8);
+    if (!header.arithmetic && blocks / 8 > bytes.size())
+        fail(ErrorKind::InvalidInput, path,
+             "truncated JPEG: the header declares " + dimensions(header.width, header.height) +
+                 ", which needs at least " + std::to_string(blocks / 8) + " bytes of data; the file has " +
+                 std::to_string(bytes.size()));
+    const int channels = header.components == 1 ? 1 : 3;
+    checkReadBudget(path, ImageFormat::Jpeg, header.width, header.height, channels,
+                    static_cast<std::uint64_t>(header.width) * 16u * static_cast<std::uint64_t>(channels));
+    Image image(header.width, header.height, channels);
+    std::vector<unsigned char> row(static_cast<std::size_t>(header.width) *
+                                   static_cast<std::size_t>(channels));
+    const JpegDecodePlan plan{row.data(), header.width, header.height, channels, image.pixels().data()};
+    if (!jpegDecode(s, plan))
+        fail(ErrorKind::InvalidInput, path, "corrupt or truncated JPEG: " + s.message());
     return image;
 }
 
@@ -650,6 +809,12 @@ Image readExr(const fs::path& path, const Bytes& bytes) {
     for (int i = 0; i < header->num_channels; ++i)
         if (header->pixel_types[i] == TINYEXR_PIXELTYPE_HALF)
             header->requested_pixel_types[i] = TINYEXR_PIXELTYPE_FLOAT;
+    // tinyexr's float plane of every channel in the file, then the float image.
+    checkReadBudget(path, ImageFormat::Exr, parsed.width, parsed.height,
+                    static_cast<int>(parsed.order.size()),
+                    saturatingMultiply(static_cast<std::uint64_t>(parsed.width) *
+                                           static_cast<std::uint64_t>(parsed.height) * sizeof(float),
+                                       static_cast<std::uint64_t>(header->num_channels)));
     ExrImage exr;
     // tinyexr (1.0.1) frees the image itself when the pixel data is invalid, but only the channel planes
     // that num_channels counts, which it sets only on success; setting it first makes that cleanup
@@ -683,6 +848,20 @@ Image readExr(const fs::path& path, const Bytes& bytes) {
             }
             pixels[i * static_cast<std::size_t>(channels) + static_cast<std::size_t>(c)] = value;
         }
+    }
+    // NaN or infinity is no depth, height or normal: refused here rather than read as 0 later. The
+    // first one in row-major order (rows top first) is named.
+    const auto bad = std::find_if(pixels.begin(), pixels.end(), [](float v) { return !std::isfinite(v); });
+    if (bad != pixels.end()) {
+        const auto at = static_cast<std::size_t>(bad - pixels.begin());
+        const std::size_t texel = at / static_cast<std::size_t>(channels);
+        const int source = parsed.order[at % static_cast<std::size_t>(channels)];
+        fail(ErrorKind::InvalidInput, path,
+             "EXR channel " + std::string(header->channels[source].name) + " holds " +
+                 formatNumber(static_cast<double>(*bad)) + " at column " +
+                 std::to_string(texel % static_cast<std::size_t>(parsed.width)) + ", row " +
+                 std::to_string(texel / static_cast<std::size_t>(parsed.width)) +
+                 " (row 0 is the top); only finite values are read");
     }
     return image;
 }
@@ -791,6 +970,7 @@ Image readImage(const fs::path& path) {
         case ImageFormat::Exr:
             return readExr(path, file.bytes);
         case ImageFormat::Jpeg:
+            return readJpeg(path, file.bytes);
         case ImageFormat::Tga:
         case ImageFormat::Bmp:
             return readStb(path, file.format, file.bytes);

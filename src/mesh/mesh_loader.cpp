@@ -2,6 +2,7 @@
 
 #include "strata/core/error.h"
 #include "strata/core/file.h"
+#include "strata/core/memory_budget.h"
 #include "strata/mesh/tangent_space.h"
 
 #include <glm/geometric.hpp>
@@ -18,6 +19,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -61,7 +64,49 @@ void requireFinite(const fs::path& path, const std::vector<float>& values, const
 
 // --- OBJ ----------------------------------------------------------------------------------------------
 
+// tinyobjloader reads a number it cannot parse ("nan", "inf", "1e999", "x") as 0 without a word, so the
+// v, vt and vn lines are checked here first, with their line numbers. The same pass counts what
+// tinyobjloader and the welding below will hold, for the memory budget, before either runs.
+void prescanObj(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(ErrorKind::Io, path.string() + ": cannot open the file");
+    std::string line;
+    std::uint64_t lineNumber = 0;
+    std::uint64_t attributeFloats = 0;
+    std::uint64_t corners = 0;
+    while (std::getline(in, line)) {
+        ++lineNumber;
+        std::istringstream tokens(line);
+        std::string keyword;
+        tokens >> keyword;
+        if (keyword == "f" || keyword == "l" || keyword == "p") {
+            std::string token;
+            while (tokens >> token) ++corners;
+            continue;
+        }
+        if (keyword != "v" && keyword != "vt" && keyword != "vn") continue;
+        std::string token;
+        while (tokens >> token) {
+            if (token[0] == '#') break;
+            char* end = nullptr;
+            const double value = std::strtod(token.c_str(), &end);
+            const bool parsed = end != token.c_str() && *end == '\0';
+            if (!parsed || !std::isfinite(value))
+                invalid(path, "line " + std::to_string(lineNumber) + ": '" + keyword + "' value '" + token +
+                                  "' is not a finite number");
+            ++attributeFloats;
+        }
+    }
+    // Floats as tinyobjloader stores them, then per face corner its index (12 bytes), a welded vertex
+    // and its map entry (at most one each per corner) and the mesh index.
+    const std::uint64_t bytes =
+        attributeFloats * sizeof(float) + corners * (12 + sizeof(MeshVertex) + 64 + sizeof(std::uint32_t));
+    reserveOrThrow(bytes, path.string() + ": an OBJ with " + std::to_string(attributeFloats) +
+                              " attribute values and " + std::to_string(corners) + " face corners");
+}
+
 RawMesh readObj(const fs::path& path, bool requireUvs) {
+    prescanObj(path);
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
     config.vertex_color = false;
@@ -150,8 +195,9 @@ const T& element(const fs::path& path, const std::vector<T>& list, int index, co
 }
 
 // Reads accessor `index` as `components` floats per element (normalised integers mapped as glTF says).
+// `expectedCount`: the primitive's vertex count (its POSITION's), checked before anything is allocated.
 std::vector<float> readAccessor(const fs::path& path, const tinygltf::Model& model, int index, int components,
-                                const char* what) {
+                                const char* what, std::size_t expectedCount = SIZE_MAX) {
     if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size()) {
         invalid(path, std::string(what) + " accessor " + std::to_string(index) + " does not exist");
     }
@@ -164,8 +210,21 @@ std::vector<float> readAccessor(const fs::path& path, const tinygltf::Model& mod
         invalid(path, std::string(what) + " accessor " + std::to_string(index) + " has the wrong type");
     }
     const std::size_t count = accessor.count;
-    std::vector<float> out(count * static_cast<std::size_t>(components), 0.0f);
-    if (accessor.bufferView < 0) return out;  // all zeros, as the spec says
+    if (expectedCount != SIZE_MAX && count != expectedCount)
+        invalid(path, "a primitive's attributes have different counts");
+    // Positions without a buffer view would all be 0: every triangle degenerate, refused later anyway, so
+    // refused here before a count that costs nothing to write in JSON costs memory.
+    if (accessor.bufferView < 0 && std::strcmp(what, "POSITION") == 0)
+        invalid(path, "POSITION accessor " + std::to_string(index) + " of " + std::to_string(count) +
+                          " elements has no buffer view (every position would be 0)");
+    // The floats read here and a vertex per element later, against the budget before either exists:
+    // an accessor without a buffer view (all zeros) can declare any count in a few bytes of JSON.
+    reserveOrThrow(saturatingMultiply(count, static_cast<std::uint64_t>(components) * sizeof(float) +
+                                                 sizeof(MeshVertex) + sizeof(VertexSource)),
+                   path.string() + ": " + what + " accessor " + std::to_string(index) + " of " +
+                       std::to_string(count) + " elements");
+    if (accessor.bufferView < 0)
+        return std::vector<float>(count * static_cast<std::size_t>(components), 0.0f);  // zeros (the spec)
     const tinygltf::BufferView& view = element(path, model.bufferViews, accessor.bufferView, "buffer view");
     const tinygltf::Buffer& buffer = element(path, model.buffers, view.buffer, "buffer");
     const int componentSize =
@@ -174,10 +233,14 @@ std::vector<float> readAccessor(const fs::path& path, const tinygltf::Model& mod
     const std::size_t elementSize = static_cast<std::size_t>(componentSize * components);
     const std::size_t stride = view.byteStride ? view.byteStride : elementSize;
     const std::size_t start = view.byteOffset + accessor.byteOffset;
-    if (count > 0 && (start + stride * (count - 1) + elementSize > buffer.data.size() ||
-                      accessor.byteOffset + stride * (count - 1) + elementSize > view.byteLength)) {
+    // Saturating: a hostile count must not wrap around into range.
+    const std::uint64_t span = count > 0 ? saturatingMultiply(stride, count - 1) + elementSize : 0;
+    if (count > 0 &&
+        (span > buffer.data.size() || start > buffer.data.size() - span ||
+         accessor.byteOffset > view.byteLength || span > view.byteLength - accessor.byteOffset)) {
         invalid(path, std::string(what) + " accessor " + std::to_string(index) + " runs past its buffer");
     }
+    std::vector<float> out(count * static_cast<std::size_t>(components), 0.0f);
     for (std::size_t e = 0; e < count; ++e) {
         const unsigned char* element = buffer.data.data() + start + e * stride;
         for (int c = 0; c < components; ++c) {
@@ -228,10 +291,16 @@ std::vector<std::uint32_t> readIndices(const fs::path& path, const tinygltf::Mod
     if (size != 1 && size != 2 && size != 4) invalid(path, "index accessor has an invalid component type");
     const std::size_t stride = view.byteStride ? view.byteStride : static_cast<std::size_t>(size);
     const std::size_t start = view.byteOffset + accessor.byteOffset;
-    if (accessor.count > 0 &&
-        start + stride * (accessor.count - 1) + static_cast<std::size_t>(size) > buffer.data.size()) {
+    // Saturating: a hostile count must not wrap around into range.
+    const std::uint64_t span =
+        accessor.count > 0 ? saturatingMultiply(stride, accessor.count - 1) + static_cast<std::size_t>(size)
+                           : 0;
+    if (accessor.count > 0 && (span > buffer.data.size() || start > buffer.data.size() - span)) {
         invalid(path, "index accessor " + std::to_string(index) + " runs past its buffer");
     }
+    reserveOrThrow(saturatingMultiply(accessor.count, 2 * sizeof(std::uint32_t)),
+                   path.string() + ": index accessor " + std::to_string(index) + " of " +
+                       std::to_string(accessor.count) + " elements");
     std::vector<std::uint32_t> out(accessor.count);
     for (std::size_t e = 0; e < accessor.count; ++e) {
         const unsigned char* p = buffer.data.data() + start + e * stride;
@@ -278,16 +347,18 @@ void appendPrimitive(const fs::path& path, const tinygltf::Model& model, const t
     if (!hasUvs && requireUvs) noTexCoords(path);
     const std::vector<float> positions = readAccessor(path, model, attribute("POSITION"), 3, "POSITION");
     const std::size_t count = positions.size() / 3;
-    const std::vector<float> uvs = hasUvs
-                                       ? readAccessor(path, model, attribute("TEXCOORD_0"), 2, "TEXCOORD_0")
-                                       : std::vector<float>(2 * count, 0.0f);
+    const std::vector<float> uvs =
+        hasUvs ? readAccessor(path, model, attribute("TEXCOORD_0"), 2, "TEXCOORD_0", count)
+               : std::vector<float>(2 * count, 0.0f);
     raw.missingUvs = raw.missingUvs || !hasUvs;
     const bool hasNormals = attribute("NORMAL") >= 0;
     const bool hasTangents = attribute("TANGENT") >= 0;
     const std::vector<float> normals =
-        hasNormals ? readAccessor(path, model, attribute("NORMAL"), 3, "NORMAL") : std::vector<float>();
+        hasNormals ? readAccessor(path, model, attribute("NORMAL"), 3, "NORMAL", count)
+                   : std::vector<float>();
     const std::vector<float> tangents =
-        hasTangents ? readAccessor(path, model, attribute("TANGENT"), 4, "TANGENT") : std::vector<float>();
+        hasTangents ? readAccessor(path, model, attribute("TANGENT"), 4, "TANGENT", count)
+                    : std::vector<float>();
     if (uvs.size() / 2 != count || (hasNormals && normals.size() / 3 != count) ||
         (hasTangents && tangents.size() / 4 != count)) {
         invalid(path, "a primitive's attributes have different counts");

@@ -1,7 +1,8 @@
 // Reading and writing image files.
 //
 // Readers: PNG 8/16-bit (gray, gray+alpha, RGB, RGBA, and palette, expanded) through libpng;
-// JPEG, TGA and BMP through stb_image (Debian's libstb); OpenEXR through tinyexr. The format is
+// JPEG through libjpeg-turbo (every warning it gives about corrupt or missing data is an error); TGA and
+// BMP through stb_image (Debian's libstb); OpenEXR through tinyexr. The format is
 // recognised from the file's first bytes, not its extension, so a text file renamed `.png` is reported
 // as "not an image". Values come back as floats in [0, 1] (8-bit / 255, 16-bit / 65535), EXR as stored.
 // Rows are top first, as in the file and as strata::Image stores them (CONVENTIONS §1). PNG samples are
@@ -13,10 +14,13 @@
 // Failure contract: every failure throws strata::Error whose message starts with the file's path
 // and says what is wrong:
 //   ErrorKind::Io           missing file, a directory, unreadable, cannot write;
-//   ErrorKind::InvalidInput empty file, not an image, corrupt or truncated data, zero width or height;
+//   ErrorKind::InvalidInput empty file, not an image, corrupt or truncated data, zero width or height,
+//                           a PNG or JPEG header declaring more data than the file can hold (checked
+//                           before decoding), NaN or infinity in an EXR (the first texel is named);
 //   ErrorKind::Unsupported  a recognised but unsupported format or variant, or an image larger than
 //                           Image::kMaxDimension in either direction, refused from the header before
-//                           any pixel memory is allocated.
+//                           any pixel memory is allocated; an image whose decoding needs more than
+//                           the memory budget (strata/core/memory_budget.h), refused likewise.
 // Writers are atomic (temporary file, then rename): a failed write leaves nothing behind.
 #pragma once
 

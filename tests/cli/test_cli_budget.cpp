@@ -1,0 +1,266 @@
+// The memory budget (docs/images.md, docs/cli.md --max-memory) and corrupt data in readers: a tiny hostile
+// file or a large --size is refused before it costs memory, and corrupt data is an error, not a picture.
+// Each case runs the built `strata`, reads the child's peak resident set from wait4()'s rusage, and
+// asserts the exit code, the message and that peak.
+#include "test_support.h"
+
+#include "strata/image/image_io.h"
+
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wold-style-cast"
+#pragma GCC diagnostic ignored "-Wconversion"
+#pragma GCC diagnostic ignored "-Wsign-conversion"
+#pragma GCC diagnostic ignored "-Wdouble-promotion"
+#include <stb/stb_image_write.h>  // implementation in libstb; used here only to make fixtures
+#pragma GCC diagnostic pop
+
+namespace strata {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A refused input must cost what the process costs anyway: the `strata` binary with its libraries (TBB,
+// OpenVDB, Embree) and a file read into memory peaks at about 37 MiB here (measured: `info` of a 65-byte
+// PNG, 38100 KiB). 100 MiB is well above that and far below the gigabytes each hostile file cost before.
+constexpr long kPeakLimitKiB = 100 * 1024;
+
+struct Measured {
+    int exitCode = -1;
+    long peakKiB = -1;   // ru_maxrss of the child (KiB on Linux)
+    std::string output;  // stdout and stderr together
+};
+
+// fork + exec rather than posix_spawn: a vfork-style spawn shares this process's memory map until exec,
+// and Linux carries that map's high-water mark into the child's ru_maxrss, so the child would report this
+// test process's peak. A forked child starts from this process's current resident set instead (small:
+// the fixtures' images are freed before the run).
+Measured runMeasured(const std::vector<std::string>& args, const fs::path& scratch) {
+    const std::string log = (scratch / "output.txt").string();
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(STRATA_CLI_PATH));
+    for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
+    argv.push_back(nullptr);
+    Measured result;
+    const pid_t pid = fork();
+    if (pid < 0) return result;
+    if (pid == 0) {
+        // Only async-signal-safe calls between fork and exec.
+        const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fd < 0 || dup2(fd, 1) < 0 || dup2(fd, 2) < 0) _exit(126);
+        execv(STRATA_CLI_PATH, argv.data());
+        _exit(127);
+    }
+    int status = 0;
+    rusage usage{};
+    if (wait4(pid, &status, 0, &usage) != pid) return result;
+    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    result.peakKiB = usage.ru_maxrss;
+    std::ifstream in(log);
+    std::stringstream text;
+    text << in.rdbuf();
+    result.output = text.str();
+    return result;
+}
+
+void expectRefused(const Measured& result, int exitCode, const std::string& message) {
+    EXPECT_EQ(result.exitCode, exitCode) << result.output;
+    EXPECT_NE(result.output.find(message), std::string::npos) << result.output;
+    EXPECT_GT(result.peakKiB, 0);
+    EXPECT_LT(result.peakKiB, kPeakLimitKiB) << result.output;
+    ::testing::Test::RecordProperty("peak_kib", std::to_string(result.peakKiB));
+    std::printf("peak %ld KiB, exit %d: %s", result.peakKiB, result.exitCode, result.output.c_str());
+}
+
+std::string bigEndian32(std::uint32_t v) {
+    return {static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
+            static_cast<char>(v)};
+}
+
+// A PNG chunk with its CRC (the PNG specification's CRC-32, computed bitwise).
+std::string pngChunk(const std::string& type, const std::string& data) {
+    const std::string covered = type + data;
+    std::uint32_t crc = 0xffffffffu;
+    for (const char ch : covered) {
+        crc ^= static_cast<unsigned char>(ch);
+        for (int k = 0; k < 8; ++k) crc = (crc & 1u) ? (crc >> 1) ^ 0xedb88320u : crc >> 1;
+    }
+    return bigEndian32(static_cast<std::uint32_t>(data.size())) + covered + bigEndian32(crc ^ 0xffffffffu);
+}
+
+// 65 bytes: signature, an IHDR of 16384 x 16384 RGBA 16-bit with a valid CRC, an IDAT holding an empty
+// zlib stream, IEND.
+std::string hostilePng() {
+    const std::string ihdr = bigEndian32(16384) + bigEndian32(16384) + std::string{16, 6, 0, 0, 0};
+    return std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr) +
+           pngChunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) + pngChunk("IEND", "");
+}
+
+void appendBytes(void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                               static_cast<std::size_t>(size));
+}
+
+// A baseline JPEG of `size`^2 noise at quality 90 (stb_image_write).
+std::string noiseJpeg(int size) {
+    std::vector<unsigned char> pixels(static_cast<std::size_t>(size) * static_cast<std::size_t>(size) * 3);
+    std::uint32_t state = 12345;
+    for (unsigned char& p : pixels) {
+        state = state * 1664525u + 1013904223u;
+        p = static_cast<unsigned char>(state >> 24);
+    }
+    std::string out;
+    stbi_write_jpg_to_func(appendBytes, &out, size, size, 3, pixels.data(), 90);
+    return out;
+}
+
+std::string quoted(const fs::path& path) {
+    return path.string();
+}
+
+TEST(CliBudget, APngHeaderClaiming16384SquaredRgba16IsRefusedBeforeDecoding) {
+    test::ScratchDir dir("budget-png");
+    const std::string bytes = hostilePng();
+    ASSERT_EQ(bytes.size(), 65u);
+    test::writeBytes(dir / "big.png", bytes);
+    // rows of 16384 * 8 bytes plus a filter byte, 16384 rows: 2.00 GiB that 69 bytes cannot hold.
+    expectRefused(runMeasured({"info", quoted(dir / "big.png")}, dir.path()), 3,
+                  "strata: error: " + (dir / "big.png").string() +
+                      ": truncated PNG: the header declares 16384 x 16384 (2.00 GiB of image data), more "
+                      "than a 65-byte file can hold");
+    expectRefused(
+        runMeasured({"import", "--height", quoted(dir / "big.png"), "-o", quoted(dir / "set")}, dir.path()),
+        3, ": truncated PNG: the header declares 16384 x 16384");
+    EXPECT_FALSE(fs::exists(dir / "set"));
+}
+
+TEST(CliBudget, AJpegHeaderClaiming16000SquaredIsRefusedBeforeDecoding) {
+    test::ScratchDir dir("budget-jpeg");
+    std::string bytes = noiseJpeg(96);
+    // Patch the baseline frame header (FF C0, length, precision, height, width) to 16000 x 16000.
+    const std::size_t sof = bytes.find("\xff\xc0", 0, 2);
+    ASSERT_NE(sof, std::string::npos);
+    bytes[sof + 5] = bytes[sof + 7] = static_cast<char>(16000 >> 8);
+    bytes[sof + 6] = bytes[sof + 8] = static_cast<char>(16000 & 0xff);
+    test::writeBytes(dir / "big.jpg", bytes);
+    // 2000 x 2000 blocks, at least one bit each: 500000 bytes, and the file is a few KB.
+    expectRefused(runMeasured({"info", quoted(dir / "big.jpg")}, dir.path()), 3,
+                  "strata: error: " + (dir / "big.jpg").string() +
+                      ": truncated JPEG: the header declares 16000 x 16000, which needs at least 500000 "
+                      "bytes of data; the file has " +
+                      std::to_string(bytes.size()));
+}
+
+TEST(CliBudget, ATruncatedJpegWithAnEndMarkerAppendedIsCorrupt) {
+    test::ScratchDir dir("budget-jpeg-cut");
+    const std::string full = noiseJpeg(64);
+    test::writeBytes(dir / "ok.jpg", full);
+    ASSERT_EQ(runMeasured({"info", quoted(dir / "ok.jpg")}, dir.path()).exitCode, 0);
+    // Half the entropy-coded data, then FF D9: stb_image read this as an image with a flat lower half.
+    test::writeBytes(dir / "cut.jpg", full.substr(0, full.size() / 2) + "\xff\xd9");
+    expectRefused(runMeasured({"info", quoted(dir / "cut.jpg")}, dir.path()), 3,
+                  "strata: error: " + (dir / "cut.jpg").string() +
+                      ": corrupt or truncated JPEG: Corrupt JPEG data: premature end of data segment");
+}
+
+TEST(CliBudget, AGltfAccessorOf400MillionElementsIsRefusedBeforeAllocating) {
+    test::ScratchDir dir("budget-gltf");
+    // Positions without a buffer view are all zeros by the glTF spec: any count in a few bytes of JSON.
+    const std::string header = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "scene": 0,
+ "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],)";
+    const std::string gltf = header + R"(
+ "accessors": [{"componentType": 5126, "count": 400000000, "type": "VEC3",
+                "min": [0, 0, 0], "max": [0, 0, 0]}]})";
+    test::writeBytes(dir / "huge.gltf", gltf);
+    ASSERT_LT(gltf.size(), 800u);
+    expectRefused(
+        runMeasured({"dual-depth", "--mesh", quoted(dir / "huge.gltf"), "-o", quoted(dir / "out")},
+                    dir.path()),
+        3,
+        "strata: error: " + (dir / "huge.gltf").string() +
+            ": POSITION accessor 0 of 400000000 elements has no buffer view (every position would be 0)");
+    EXPECT_FALSE(fs::exists(dir / "out"));
+    // The same count over a 12-byte buffer: refused by the budget (or, within it, as running past the
+    // buffer). --max-memory makes the case independent of this machine's memory.
+    test::writeBytes(dir / "view.gltf", header + R"(
+ "buffers": [{"byteLength": 12, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAA"}],
+ "bufferViews": [{"buffer": 0, "byteLength": 12}],
+ "accessors": [{"bufferView": 0, "componentType": 5126, "count": 400000000, "type": "VEC3",
+                "min": [0, 0, 0], "max": [0, 0, 0]}]})");
+    // 400 M x (12 bytes of floats + a 48-byte vertex + 2 bytes of flags) = 23.10 GiB.
+    expectRefused(
+        runMeasured({"--max-memory", "1G", "dual-depth", "--mesh", quoted(dir / "view.gltf"), "-o",
+                     quoted(dir / "out")},
+                    dir.path()),
+        5,
+        "strata: error: " + (dir / "view.gltf").string() +
+            ": POSITION accessor 0 of 400000000 elements needs 23.10 GiB, more than the memory budget "
+            "of 1.00 GiB (--max-memory)");
+    expectRefused(
+        runMeasured({"--max-memory", "64G", "dual-depth", "--mesh", quoted(dir / "view.gltf"), "-o",
+                     quoted(dir / "out")},
+                    dir.path()),
+        3, "strata: error: " + (dir / "view.gltf").string() + ": POSITION accessor 0 runs past its buffer");
+    EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(CliBudget, AValidNormalMapOverTheBudgetIsRefusedBeforeItIsDecoded) {
+    test::ScratchDir dir("budget-normal");
+    // An all-zero (flat-encoded) 2048^2 RGB normal map: 48 MiB of floats once read.
+    // Its 2048^2 height map (16 MiB of floats) fits in the budget; the normal map does not.
+    writePng(dir / "n.png", Image(2048, 2048, 3, 0.0f), {PngBitDepth::Eight, false});
+    writePng(dir / "h.png", Image(2048, 2048, 1, 0.0f), {PngBitDepth::Eight, false});
+    expectRefused(runMeasured({"--max-memory", "32M", "import", "--height", quoted(dir / "h.png"), "--normal",
+                               quoted(dir / "n.png"), "-o", quoted(dir / "set")},
+                              dir.path()),
+                  5,
+                  "strata: error: " + (dir / "n.png").string() +
+                      ": a 2048 x 2048 PNG of 3 channels needs 48 MiB, more than the memory budget of 32 MiB "
+                      "(--max-memory)");
+    EXPECT_FALSE(fs::exists(dir / "set"));
+}
+
+TEST(CliBudget, ASizeFlagOverTheBudgetIsRefusedBeforeAllocating) {
+    test::ScratchDir dir("budget-size");
+    // 4096^2 floats of one channel: 64 MiB, over a 16 MiB budget.
+    expectRefused(
+        runMeasured({"--max-memory", "16M", "pattern", "base", "--size", "4096", "-o", quoted(dir / "p")},
+                    dir.path()),
+        5,
+        "strata: error: a 4096 x 4096 image of 1 channel needs 64 MiB, more than the memory budget of 16 MiB "
+        "(--max-memory)");
+    EXPECT_FALSE(fs::exists(dir / "p"));
+    // The same command within the budget works, and the meter sees what the child allocates: a 2048^2 set
+    // holds several 16 MiB float maps at once, far above a refusal's 38 MB.
+    const Measured within = runMeasured(
+        {"--max-memory", "4G", "pattern", "base", "--size", "2048", "-o", quoted(dir / "q")}, dir.path());
+    EXPECT_EQ(within.exitCode, 0) << within.output;
+    EXPECT_GT(within.peakKiB, 2 * kPeakLimitKiB) << within.output;
+    std::printf("within the budget: peak %ld KiB\n", within.peakKiB);
+}
+
+TEST(CliBudget, AMalformedMaxMemoryIsAUsageError) {
+    test::ScratchDir dir("budget-flag");
+    for (const std::string bad : {"12X", "0", "-5", "G", "99999999999T"}) {
+        const Measured result = runMeasured({"--max-memory", bad, "pattern", "--list"}, dir.path());
+        EXPECT_EQ(result.exitCode, 1) << bad << "\n" << result.output;
+        EXPECT_NE(result.output.find("strata: error: --max-memory '" + bad + "': "), std::string::npos)
+            << result.output;
+    }
+    EXPECT_EQ(runMeasured({"--max-memory", "512MiB", "pattern", "--list"}, dir.path()).exitCode, 0);
+}
+
+}  // namespace
+}  // namespace strata

@@ -1,0 +1,157 @@
+// Readers against the memory budget, and corrupt data that is an error rather than a picture
+// (docs/images.md).
+#include "strata/core/error.h"
+#include "strata/core/memory_budget.h"
+#include "strata/image/image_io.h"
+
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wold-style-cast"
+#pragma GCC diagnostic ignored "-Wconversion"
+#pragma GCC diagnostic ignored "-Wsign-conversion"
+#pragma GCC diagnostic ignored "-Wdouble-promotion"
+#include <stb/stb_image_write.h>  // implementation in libstb; used here only to make fixtures
+#pragma GCC diagnostic pop
+
+namespace strata {
+namespace {
+
+namespace fs = std::filesystem;
+using test::ScratchDir;
+
+std::string readError(const fs::path& path, ErrorKind* kind) {
+    try {
+        readImage(path);
+    } catch (const Error& e) {
+        *kind = e.kind();
+        return e.what();
+    }
+    return "no error";
+}
+
+class ReaderBudget : public ::testing::Test {
+protected:
+    void TearDown() override { setMemoryBudget(mSaved); }
+    std::uint64_t mSaved = memoryBudget();
+};
+
+TEST_F(ReaderBudget, EveryFormatIsCheckedBeforeDecoding) {
+    ScratchDir dir("reader-budget");
+    const Image gray(256, 128, 1, 0.25f);
+    writePng(dir / "g.png", gray);
+    writeExr(dir / "g.exr", gray);
+    // 256 x 128 floats = 128 KiB, plus the decoder's buffers: over a 100 KiB budget for every reader.
+    setMemoryBudget(100 * 1024);
+    for (const char* name : {"g.png", "g.exr"}) {
+        ErrorKind kind = ErrorKind::Runtime;
+        const std::string message = readError(dir / name, &kind);
+        EXPECT_EQ(kind, ErrorKind::Unsupported) << message;
+        EXPECT_EQ(message.rfind((dir / name).string() + ": a 256 x 128 ", 0), 0u) << message;
+        EXPECT_NE(message.find(" of 1 channel needs "), std::string::npos) << message;
+        EXPECT_NE(message.find("more than the memory budget of 102400 bytes (--max-memory)"),
+                  std::string::npos)
+            << message;
+    }
+    // The header alone allocates nothing proportional to the image and stays readable.
+    EXPECT_EQ(readImageInfo(dir / "g.png").width, 256);
+    setMemoryBudget(mSaved);
+    EXPECT_EQ(readImage(dir / "g.png").width(), 256);
+}
+
+TEST_F(ReaderBudget, ImagesMadeFromFlagsAreCheckedToo) {
+    setMemoryBudget(std::uint64_t{1} << 20);
+    try {
+        Image big(1024, 1024, 1);
+        ADD_FAILURE() << "not refused";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Unsupported);
+        EXPECT_STREQ(e.what(),
+                     "a 1024 x 1024 image of 1 channel needs 4 MiB, more than the memory budget of 1 MiB "
+                     "(--max-memory)");
+    }
+    EXPECT_EQ(Image(512, 512, 1).width(), 512);  // exactly 1 MiB: within
+}
+
+TEST(ExrFiniteValues, NanAndInfinityAreErrorsNamingTheFirstTexel) {
+    ScratchDir dir("exr-nan");
+    Image normals(8, 4, 3, 0.5f);
+    normals.at(5, 2, 1) = std::numeric_limits<float>::quiet_NaN();
+    normals.at(6, 3, 0) = std::numeric_limits<float>::infinity();
+    writeExr(dir / "n.exr", normals);
+    ErrorKind kind = ErrorKind::Runtime;
+    EXPECT_EQ(
+        readError(dir / "n.exr", &kind),
+        (dir / "n.exr").string() +
+            ": EXR channel G holds nan at column 5, row 2 (row 0 is the top); only finite values are read");
+    EXPECT_EQ(kind, ErrorKind::InvalidInput);
+    Image depth(4, 4, 1, 0.1f);
+    depth.at(0, 3) = -std::numeric_limits<float>::infinity();
+    writeExr(dir / "d.exr", depth);
+    EXPECT_EQ(
+        readError(dir / "d.exr", &kind),
+        (dir / "d.exr").string() +
+            ": EXR channel Y holds -inf at column 0, row 3 (row 0 is the top); only finite values are read");
+}
+
+void appendBytes(void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                               static_cast<std::size_t>(size));
+}
+
+std::string noiseJpeg(int size) {
+    std::vector<unsigned char> pixels(static_cast<std::size_t>(size) * static_cast<std::size_t>(size) * 3);
+    std::uint32_t state = 7;
+    for (unsigned char& p : pixels) {
+        state = state * 1664525u + 1013904223u;
+        p = static_cast<unsigned char>(state >> 24);
+    }
+    std::string out;
+    stbi_write_jpg_to_func(appendBytes, &out, size, size, 3, pixels.data(), 90);
+    return out;
+}
+
+TEST(JpegCorruptData, ACutFileWithAnEndMarkerAppendedIsAnError) {
+    ScratchDir dir("jpeg-cut-eoi");
+    const std::string full = noiseJpeg(64);
+    test::writeBytes(dir / "ok.jpg", full);
+    const Image ok = readImage(dir / "ok.jpg");
+    EXPECT_EQ(ok.width(), 64);
+    EXPECT_EQ(ok.channels(), 3);
+    for (const std::size_t keep : {full.size() / 2, full.size() - 40}) {
+        test::writeBytes(dir / "cut.jpg", full.substr(0, keep) + "\xff\xd9");
+        ErrorKind kind = ErrorKind::Runtime;
+        EXPECT_EQ(readError(dir / "cut.jpg", &kind),
+                  (dir / "cut.jpg").string() +
+                      ": corrupt or truncated JPEG: Corrupt JPEG data: premature end of data segment")
+            << keep;
+        EXPECT_EQ(kind, ErrorKind::InvalidInput);
+    }
+}
+
+TEST(JpegCorruptData, AHeaderClaimingMoreThanTheFileCanHoldIsRefused) {
+    ScratchDir dir("jpeg-big");
+    std::string bytes = noiseJpeg(16);
+    const std::size_t sof = bytes.find("\xff\xc0", 0, 2);
+    ASSERT_NE(sof, std::string::npos);
+    bytes[sof + 5] = bytes[sof + 7] = static_cast<char>(16000 >> 8);
+    bytes[sof + 6] = bytes[sof + 8] = static_cast<char>(16000 & 0xff);
+    test::writeBytes(dir / "big.jpg", bytes);
+    ErrorKind kind = ErrorKind::Runtime;
+    EXPECT_EQ(readError(dir / "big.jpg", &kind),
+              (dir / "big.jpg").string() +
+                  ": truncated JPEG: the header declares 16000 x 16000, which needs at least 500000 bytes of "
+                  "data; the file has " +
+                  std::to_string(bytes.size()));
+    EXPECT_EQ(kind, ErrorKind::InvalidInput);
+}
+
+}  // namespace
+}  // namespace strata
