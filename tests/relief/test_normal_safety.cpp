@@ -3,7 +3,11 @@
 #include "strata/relief/import.h"
 
 #include "strata/core/error.h"
+#include "strata/image/image_io.h"
 #include "strata/relief/patterns.h"
+#include "strata/relief/texture_set.h"
+
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -174,6 +178,24 @@ TEST(NormalSafety, NormalMapReadAsHeightIsRefused) {
             EXPECT_NO_THROW(checkDepthMapContent(pattern.color, name));
         }
     }
+}
+
+// compose and render read sets through readTextureSet: a set whose normal map is clearly DirectX is refused.
+TEST(NormalSafety, ATextureSetWithADirectXNormalMapIsRefused) {
+    const test::ScratchDir dir("normal_safety_set");
+    PatternParams params;
+    params.size = 64;
+    ReliefTexture pattern = makePattern("mini-bricks", params);
+    writeTextureSet(dir / "set", pattern);
+    EXPECT_NO_THROW(readTextureSet(dir / "set"));
+    writePng(dir / "set" / "normal.png", encodeNormals(flipGreen(pattern.normal)));
+    const std::string message = errorOf([&] { readTextureSet(dir / "set"); }, ErrorKind::InvalidInput);
+    EXPECT_EQ(message.rfind((dir / "set" / "normal.png").string() +
+                                ": read as up (OpenGL), but its gradient says DirectX (green down)",
+                            0),
+              0u)
+        << message;
+    EXPECT_NE(message.find("; re-import it with --normal-y down or auto"), std::string::npos) << message;
 }
 
 }  // namespace
