@@ -32,8 +32,8 @@ std::string layerKey(const MaterialLayer& layer, double materialDepthScale) {
         // A file layer without a normal map gets normals derived at its depth scale, which defaults to the
         // material's.
         key << "files " << name(layer.depthFile) << "|" << name(layer.heightFile) << "|"
-            << name(layer.normalFile) << "|" << layer.normalYDown << "|" << name(layer.colorFile) << "|"
-            << layer.fileDepthScale.value_or(materialDepthScale);
+            << name(layer.normalFile) << "|" << layer.normalYDown << layer.normalYAuto << "|"
+            << name(layer.colorFile) << "|" << layer.fileDepthScale.value_or(materialDepthScale);
     }
     return key.str();
 }

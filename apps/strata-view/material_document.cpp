@@ -189,7 +189,7 @@ json materialToJson(const Material& material, const fs::path& baseDir) {
             if (layer.heightFile) entry["height"] = relativePath(*layer.heightFile, baseDir);
             if (layer.normalFile) {
                 entry["normal"] = relativePath(*layer.normalFile, baseDir);
-                entry["normal_y"] = layer.normalYDown ? "down" : "up";
+                entry["normal_y"] = layer.normalYAuto ? "auto" : layer.normalYDown ? "down" : "up";
             }
             if (layer.fileDepthScale) entry["depth_scale"] = *layer.fileDepthScale;
             if (layer.colorFile) entry["color"] = relativePath(*layer.colorFile, baseDir);

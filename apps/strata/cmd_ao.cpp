@@ -3,6 +3,8 @@
 // DEPTH: a depth map (or, with --height, a height map), or a texture-set directory or its strata.json
 // (its depth map, and its depth scale unless --depth-scale is given).
 // Writes AO.png (gray, the input's resolution) and its sidecar AO.png.json.
+// strata ao SET [--radius R] [--directions M] [--method ...]: without -o, a texture set's AO is baked at
+// its own depth scale into the set: ao.png, packed.png's B channel and strata.json, moved in as a whole.
 #include "cli_common.h"
 
 #include "strata/core/error.h"
@@ -10,6 +12,7 @@
 #include "strata/core/version.h"
 #include "strata/image/image_io.h"
 #include "strata/occlusion/ambient_occlusion.h"
+#include "strata/relief/texture_set.h"
 
 #include <nlohmann/json.hpp>
 
@@ -61,15 +64,29 @@ DepthInput readInput(const AoOptions& options, double* depthScale) {
 }
 
 void runAo(const AoOptions& options) {
-    checkOutputExtension(options.output, "ao: -o", {ImageFormat::Png});
-    const fs::path sidecarPath = sidecarPathFor(options.output);
+    std::error_code ec;
+    const bool isSet = fs::is_directory(options.input, ec) || options.input.extension() == ".json";
+    if (options.output.empty()) {
+        if (!isSet)
+            throw Error(ErrorKind::Usage,
+                        "ao: give -o AO.png (only a texture set can be updated in place, got " +
+                            options.input.string() + ")");
+        if (options.depthScale)
+            throw Error(
+                ErrorKind::Usage,
+                "ao: --depth-scale cannot be given when updating a texture set: its AO is baked at the "
+                "set's own depth scale (use -o AO.png for a loose map at another scale)");
+    }
+    if (!options.output.empty()) checkOutputExtension(options.output, "ao: -o", {ImageFormat::Png});
+    const fs::path sidecarPath = options.output.empty() ? fs::path() : sidecarPathFor(options.output);
 
     // Read and bake everything before writing anything.
     progress("reading " + options.input.string());
     double depthScale = 0.0;
     const DepthInput input = readInput(options, &depthScale);
-    for (const fs::path& output : {options.output, sidecarPath})
-        refuseToOverwriteInputs(output, input.inputs);
+    if (!options.output.empty())
+        for (const fs::path& output : {options.output, sidecarPath})
+            refuseToOverwriteInputs(output, input.inputs);
 
     AoParams params;
     params.method = parseAoMethod(options.method);
@@ -83,6 +100,16 @@ void runAo(const AoOptions& options) {
              ") of " + std::to_string(input.depth.width()) + "x" + std::to_string(input.depth.height()));
     const Image ao = bakeAo(input.depth, params);
 
+    if (options.output.empty()) {
+        AoRecord setRecord;
+        setRecord.radius = params.radius;
+        setRecord.method = toString(params.method);
+        setRecord.directions = params.directions;
+        const fs::path dir =
+            fs::is_directory(options.input, ec) ? options.input : options.input.parent_path();
+        reportWritten(dir, writeTextureSetAo(dir, ao, setRecord));
+        return;
+    }
     const AoRecord record;  // the definition text every Strata AO file carries (CONVENTIONS §4)
     json sidecar;
     sidecar["format"] = kAoSidecarFormat;
@@ -114,8 +141,10 @@ void addAoCommand(CLI::App& app) {
     CLI::App* command = app.add_subcommand(
         "ao", "Bake the ambient-occlusion map of a depth map or texture set (meta-relief paper, Sec. IV)");
     addDepthInputOption(*command, options->input);
-    command->add_option("-o,--output", options->output, "Output AO map (.png); its sidecar is <output>.json")
-        ->required();
+    command->add_option(
+        "-o,--output", options->output,
+        "Output AO map (.png); its sidecar is <output>.json. Without -o, a texture set's AO is "
+        "written into the set (ao.png, packed.png, strata.json)");
     command
         ->add_option("--depth-scale", options->depthScale,
                      "Depth scale S (depth of d = 1 in tile widths), (0, 100]; required unless the input is "

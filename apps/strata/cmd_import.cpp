@@ -1,12 +1,13 @@
-// strata import (--height F | --depth F) [--normal F [--normal-y up|down|auto]] [--color F] [--depth-scale S]
-// -o DIR strata import --from-photo F [--large W --medium W --small W] [--invert] [--depth-scale S] -o DIR
-// strata import --check-normal F (--height F | --depth F)      reports the normal map's convention, writes
-// nothing
+// strata import (--height F | --depth F) [--normal F [--normal-y auto|up|down [--force]]]
+//               [--color F] [--depth-scale S] [--ao] -o DIR
+// strata import --from-photo F [--large W --medium W --small W] [--invert] [--depth-scale S] [--ao] -o DIR
+// strata import --check-normal F (--height F | --depth F)   reports the convention, writes nothing
 #include "cli_common.h"
 
 #include "strata/core/error.h"
 #include "strata/image/image_io.h"
 #include "strata/image/image_ops.h"
+#include "strata/occlusion/ambient_occlusion.h"
 #include "strata/relief/import.h"
 #include "strata/relief/relief_texture.h"
 
@@ -25,7 +26,9 @@ struct ImportOptions {
     fs::path height;
     fs::path depth;
     fs::path normal;
-    std::string normalY = "up";
+    std::string normalY = "auto";
+    bool force = false;
+    bool ao = false;
     fs::path color;
     fs::path photo;
     fs::path checkNormal;
@@ -89,20 +92,16 @@ void runImport(ImportOptions options) {
         if (!options.normal.empty()) {
             // Read as stored (no flip) to judge the convention, then convert if needed.
             texture.normal = readNormalMap(options.normal);
-            const NormalConventionReport report = detectNormalConvention(texture.normal, texture.depth);
-            bool flipY = options.normalY == "down";
-            if (options.normalY == "auto") {
-                if (report.convention == NormalConvention::Unknown)
-                    throw Error(ErrorKind::InvalidInput,
-                                options.normal.string() +
-                                    ": --normal-y auto cannot tell the convention: " + report.summary);
-                flipY = report.convention == NormalConvention::DirectX;
-                note(options.normal.string() + ": " + report.summary);
-            } else if ((report.convention == NormalConvention::DirectX && !flipY) ||
-                       (report.convention == NormalConvention::OpenGL && flipY)) {
-                warn(options.normal.string() + ": read with --normal-y " + options.normalY + ", but " +
-                     report.summary);
-            }
+            const NormalY setting = options.normalY == "up"     ? NormalY::Up
+                                    : options.normalY == "down" ? NormalY::Down
+                                                                : NormalY::Auto;
+            const NormalYResolution resolved =
+                resolveNormalY(texture.normal, texture.depth, setting, options.force, options.normal.string(),
+                               "use --normal-y " + std::string(setting == NormalY::Up ? "down" : "up") +
+                                   " or auto, or add --force to keep --normal-y " + options.normalY);
+            if (!resolved.note.empty())
+                (options.force && setting != NormalY::Auto ? warn : note)(resolved.note);
+            const bool flipY = resolved.flipY;
             if (flipY)  // DirectX -> OpenGL: green points down; negating y keeps the vector unit length
                 for (int y = 0; y < texture.normal.height(); ++y)
                     for (int x = 0; x < texture.normal.width(); ++x) texture.normal.at(x, y, 1) *= -1.0f;
@@ -120,6 +119,18 @@ void runImport(ImportOptions options) {
     }
 
     TextureSetWriteOptions write;
+    if (options.ao) {
+        // The same bake as `strata ao SET` with its defaults (sweep, 50 directions, R = 1) at the set's S.
+        AoParams params;
+        params.depthScale = texture.depthScale;
+        progress("ambient occlusion (sweep, " + std::to_string(params.directions) + " directions, R = " +
+                 formatNumber(params.radius) + ", S = " + formatNumber(params.depthScale) + ")");
+        texture.ao = bakeAo(texture.depth, params);
+        write.ao = AoRecord{};
+        write.ao->radius = params.radius;
+        write.ao->method = toString(params.method);
+        write.ao->directions = params.directions;
+    }
     write.bitDepth = options.bitDepth;
     write.normalSource = normalSource;
     write.sourceJson = source.dump();
@@ -138,11 +149,14 @@ void addImportCommand(CLI::App& app) {
     command->add_option("--normal", options->normal,
                         "Tangent-space normal map (otherwise derived from depth)");
     command
-        ->add_option(
-            "--normal-y", options->normalY,
-            "Green channel of --normal: up (OpenGL), down (DirectX, converted), auto (detected from depth)")
+        ->add_option("--normal-y", options->normalY,
+                     "Green channel of --normal: up (OpenGL), down (DirectX, converted), auto (detected from "
+                     "depth; up "
+                     "when it cannot tell)")
         ->check(CLI::IsMember({"up", "down", "auto"}))
         ->capture_default_str();
+    command->add_flag("--force", options->force,
+                      "Keep an explicit --normal-y that the depth map's gradient clearly contradicts");
     command->add_option("--color", options->color, "Colour map (any resolution)");
     command->add_option("--from-photo", options->photo,
                         "Colour photo: build depth and normals from its luminance bands");
@@ -158,6 +172,9 @@ void addImportCommand(CLI::App& app) {
         ->capture_default_str();
     command->add_flag("--invert", options->photoParams.invert,
                       "--from-photo: dark is high instead of bright");
+    command->add_flag("--ao", options->ao,
+                      "Bake the AO map into the set (as `strata ao SET` with its defaults: sweep, 50 "
+                      "directions, R = 1)");
     command->add_option("--check-normal", options->checkNormal,
                         "Report whether this normal map is OpenGL or DirectX, by comparing it with "
                         "--height/--depth; writes nothing");

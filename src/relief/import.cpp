@@ -305,4 +305,98 @@ const char* toString(NormalConvention convention) {
     return "unknown";
 }
 
+NormalYResolution resolveNormalY(const Image& normals, const Image& depth, NormalY setting, bool force,
+                                 const std::string& label, const std::string& howToFix) {
+    const NormalConventionReport report = detectNormalConvention(normals, depth);
+    NormalYResolution result;
+    if (setting == NormalY::Auto) {
+        if (report.convention == NormalConvention::Unknown) {
+            result.note = label + ": normal_y auto: " + report.summary + "; read as up (OpenGL)";
+        } else {
+            result.flipY = report.convention == NormalConvention::DirectX;
+            result.note = label + ": normal_y auto: " + report.summary;
+        }
+        return result;
+    }
+    result.flipY = setting == NormalY::Down;
+    const bool xFollows = report.correlationX > report.threshold;
+    const double againstChoice = result.flipY ? report.correlationY : -report.correlationY;
+    if (xFollows && againstChoice > kConventionContradiction) {
+        const std::string chosen = result.flipY ? "down (DirectX)" : "up (OpenGL)";
+        const std::string message = label + ": read as " + chosen + ", but its gradient says " +
+                                    report.summary + ", more than " +
+                                    formatCorrelation(kConventionContradiction) + " against; " + howToFix;
+        if (!force) invalid(message);
+        result.note = message + " (kept: forced)";
+    }
+    return result;
+}
+
+void checkNormalMapContent(const Image& encoded, const std::string& label) {
+    if (encoded.empty() || encoded.channels() < 3) return;
+    const double n = static_cast<double>(encoded.texelCount());
+    double grey = 0.0;
+    double inward = 0.0;
+    double length = 0.0;
+    for (int y = 0; y < encoded.height(); ++y)
+        for (int x = 0; x < encoded.width(); ++x) {
+            const float r = encoded.at(x, y, 0);
+            const float g = encoded.at(x, y, 1);
+            const float b = encoded.at(x, y, 2);
+            const float tol = 0.5f / 255.0f;  // half a step of an 8-bit file: exactly equal once quantised
+            if (std::abs(r - g) <= tol && std::abs(g - b) <= tol) grey += 1.0;
+            const double nx = 2.0 * static_cast<double>(r) - 1.0;
+            const double ny = 2.0 * static_cast<double>(g) - 1.0;
+            const double nz = 2.0 * static_cast<double>(b) - 1.0;
+            if (nz < 0.0) inward += 1.0;
+            length += std::sqrt(nx * nx + ny * ny + nz * nz);
+        }
+    const auto percent = [&](double count) {
+        return formatNumber(std::round(1000.0 * count / n) / 10.0) + " %";
+    };
+    if (grey >= 0.9 * n)
+        invalid(label + ": not a normal map: " + percent(grey) +
+                " of its texels are grey (r = g = b); is it a height or depth map?");
+    if (inward > 0.25 * n)
+        invalid(label + ": not a tangent-space normal map: " + percent(inward) +
+                " of its normals point into the surface (z < 0); is it signed, black or empty?");
+    const double meanLength = length / n;
+    if (meanLength < 0.5 || meanLength > 1.5)
+        invalid(label + ": not a normal map: the mean length of its normals is " +
+                formatNumber(std::round(1000.0 * meanLength) / 1000.0) + ", not 1; is it signed or scaled?");
+}
+
+void checkDepthMapContent(const Image& encoded, const std::string& label) {
+    if (encoded.empty() || encoded.channels() < 3) return;
+    const double n = static_cast<double>(encoded.texelCount());
+    double sumR = 0.0;
+    double sumG = 0.0;
+    double sumB = 0.0;
+    double outward = 0.0;
+    double length = 0.0;
+    for (int y = 0; y < encoded.height(); ++y)
+        for (int x = 0; x < encoded.width(); ++x) {
+            const double r = static_cast<double>(encoded.at(x, y, 0));
+            const double g = static_cast<double>(encoded.at(x, y, 1));
+            const double b = static_cast<double>(encoded.at(x, y, 2));
+            sumR += r;
+            sumG += g;
+            sumB += b;
+            if (b > 0.5) outward += 1.0;
+            length +=
+                std::sqrt((2 * r - 1) * (2 * r - 1) + (2 * g - 1) * (2 * g - 1) + (2 * b - 1) * (2 * b - 1));
+        }
+    const double r = sumR / n;
+    const double g = sumG / n;
+    const double b = sumB / n;
+    const double meanLength = length / n;
+    if (b >= 0.75 && std::abs(r - 0.5) <= 0.15 && std::abs(g - 0.5) <= 0.15 && outward >= 0.99 * n &&
+        meanLength >= 0.85 && meanLength <= 1.15)
+        invalid(label + ": looks like a tangent-space normal map (mean r, g, b = " +
+                formatNumber(std::round(100.0 * r) / 100.0) + ", " +
+                formatNumber(std::round(100.0 * g) / 100.0) + ", " +
+                formatNumber(std::round(100.0 * b) / 100.0) +
+                "; unit-length normals), not a height or depth map; give it as the normal map");
+}
+
 }  // namespace strata

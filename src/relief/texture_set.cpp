@@ -1,5 +1,7 @@
 #include "strata/relief/texture_set.h"
 
+#include "strata/relief/import.h"
+
 #include "strata/core/error.h"
 #include "strata/core/file.h"
 #include "strata/core/version.h"
@@ -171,7 +173,18 @@ json readSidecar(const fs::path& path) {
 }
 
 Image readDepthMap(const fs::path& path, DepthEncoding encoding, std::string* note) {
-    Image map = readScalarMap(path, note);
+    // Read once to check that an RGB file is not a normal map given as height or depth, then as
+    // readScalarMap converts it.
+    Image image = readImage(path);
+    const int channels = image.channels();
+    if (channels >= 3) checkDepthMapContent(image, path.string());
+    Image map = channels == 1   ? std::move(image)
+                : channels == 2 ? extractChannel(image, 0)
+                                : luminance(image);
+    if (channels >= 3 && note)
+        *note = path.string() + ": " + (channels == 3 ? "RGB" : "RGBA") +
+                " image read as a scalar map through its luminance (Rec. 709)" +
+                (channels == 4 ? "; alpha ignored" : "");
     return encoding == DepthEncoding::Height ? heightToDepth(map) : map;
 }
 
@@ -181,6 +194,7 @@ Image readNormalMap(const fs::path& path, bool flipY) {
         throw Error(ErrorKind::InvalidInput, path.string() +
                                                  ": a normal map needs 3 channels (RGB), it has " +
                                                  std::to_string(encoded.channels()));
+    checkNormalMapContent(encoded, path.string());
     return decodeNormals(encoded, flipY);
 }
 
@@ -210,11 +224,59 @@ ReliefTexture readTextureSet(const fs::path& path) {
                     sidecarPath.string() + ": a texture set needs \"depth\" and \"normal\"");
     texture.depth = readDepthMap(*depthFile, DepthEncoding::Depth);
     texture.normal = readNormalMap(*normalFile);
+    // A set's normal map is OpenGL (import converts); one clearly the other way is refused here, so
+    // compose and render check sets the same way as import and materials do.
+    resolveNormalY(texture.normal, texture.depth, NormalY::Up, false, normalFile->string(),
+                   "re-import it with --normal-y down or auto");
     if (const auto colorFile = fileOf("color")) {
         texture.color = toRgb(readImage(*colorFile));
     }
     if (const auto aoFile = fileOf("ao")) texture.ao = readScalarMap(*aoFile);
     return texture;
+}
+
+std::vector<fs::path> writeTextureSetAo(const fs::path& dir, const Image& ao, const AoRecord& record) {
+    json sidecar = readSidecar(dir);
+    const ReliefTexture texture = readTextureSet(dir);
+    if (ao.channels() != 1 || ao.width() != texture.depth.width() || ao.height() != texture.depth.height())
+        throw Error(ErrorKind::InvalidInput,
+                    dir.string() + ": the AO map is " + std::to_string(ao.width()) + "x" +
+                        std::to_string(ao.height()) + ", the set's depth map " +
+                        std::to_string(texture.depth.width()) + "x" + std::to_string(texture.depth.height()));
+    const int bitDepth = sidecar.value("bit_depth", 16) == 8 ? 8 : 16;
+    const PngWriteOptions data{bitDepth == 8 ? PngBitDepth::Eight : PngBitDepth::Sixteen, true};
+    // The packed map as stored (when it is there and the right size), only B replaced.
+    Image packed;
+    const auto packedEntry = sidecar.find("packed");
+    if (packedEntry != sidecar.end() && packedEntry->is_object() && packedEntry->contains("file") &&
+        (*packedEntry)["file"].is_string()) {
+        const fs::path packedFile = dir / (*packedEntry)["file"].get<std::string>();
+        std::error_code ec;
+        if (fs::exists(packedFile, ec)) packed = readImage(packedFile);
+    }
+    if (packed.channels() != 4 || packed.width() != ao.width() || packed.height() != ao.height())
+        packed = packRelief(texture);
+    for (int y = 0; y < ao.height(); ++y)
+        for (int x = 0; x < ao.width(); ++x) packed.at(x, y, 2) = ao.at(x, y);
+
+    sidecar["ao"] = {{"file", "ao.png"},
+                     {"radius", record.radius},
+                     {"definition", record.definition},
+                     {"method", record.method},
+                     {"directions", record.directions},
+                     {"baked_at_depth_scale", texture.depthScale},
+                     {"size", sizeOf(ao)}};
+    sidecar["packed"] = {
+        {"file", "packed.png"},
+        {"layout", "R = nx * 0.5 + 0.5, G = ny * 0.5 + 0.5, B = AO, A = depth; nz = sqrt(1 - nx^2 - ny^2)"},
+        {"ao_channel", "ao.png"},
+        {"size", sizeOf(texture.depth)}};
+
+    detail::StagingDir staging(dir);
+    writePng(staging.path() / "ao.png", ao, data);
+    writePng(staging.path() / "packed.png", packed, data);
+    writeTextFileAtomic(staging.path() / kSidecarName, sidecar.dump(2) + "\n");
+    return staging.moveInto(dir, {"ao.png", "packed.png", kSidecarName});
 }
 
 }  // namespace strata

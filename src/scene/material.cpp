@@ -4,6 +4,7 @@
 #include "strata/core/file.h"
 #include "strata/image/image_io.h"
 #include "strata/image/image_ops.h"
+#include "strata/relief/import.h"
 #include "strata/relief/relief_texture.h"
 #include "strata/relief/texture_set.h"
 
@@ -76,12 +77,13 @@ MaterialLayer parseLayer(const json& object, const std::string& where, const std
             reader.fail(where, "needs \"pattern\", or a \"depth\" or \"height\" file");
         layer.normalFile = existingFile("normal");
         const std::string normalY = reader.string("normal_y").value_or("up");
-        if (normalY != "up" && normalY != "down")
+        if (normalY != "up" && normalY != "down" && normalY != "auto")
             reader.fail(reader.keyPath("normal_y"),
-                        "must be \"up\" (OpenGL) or \"down\" (DirectX), got \"" + normalY + "\"");
+                        "must be \"up\" (OpenGL), \"down\" (DirectX) or \"auto\", got \"" + normalY + "\"");
         if (reader.has("normal_y") && !layer.normalFile)
             reader.fail(reader.keyPath("normal_y"), "given without \"normal\"");
         layer.normalYDown = normalY == "down";
+        layer.normalYAuto = normalY == "auto";
         layer.fileDepthScale = reader.number("depth_scale");
         if (layer.fileDepthScale &&
             !(*layer.fileDepthScale > 0.0 && *layer.fileDepthScale <= kMaxReliefDepthScale))
@@ -232,9 +234,26 @@ std::vector<CompositionLayer> loadLayers(const Material& material, std::vector<s
                                       : readDepthMap(*spec.heightFile, DepthEncoding::Height, &note);
             if (!note.empty() && notes) notes->push_back(note);
             layer.texture.depthScale = spec.fileDepthScale.value_or(material.compose.depthScale);
-            layer.texture.normal = spec.normalFile
-                                       ? readNormalMap(*spec.normalFile, spec.normalYDown)
-                                       : normalsFromDepth(layer.texture.depth, layer.texture.depthScale);
+            if (spec.normalFile) {
+                // Read as stored, checked against the layer's own depth (import.h resolveNormalY), then
+                // converted: the same rule as `strata import` and texture sets.
+                layer.texture.normal = readNormalMap(*spec.normalFile);
+                const NormalY setting = spec.normalYAuto   ? NormalY::Auto
+                                        : spec.normalYDown ? NormalY::Down
+                                                           : NormalY::Up;
+                const NormalYResolution resolved =
+                    resolveNormalY(layer.texture.normal, layer.texture.depth, setting, false,
+                                   layer.label + " normal " + spec.normalFile->string(),
+                                   std::string("set \"normal_y\": \"") +
+                                       (setting == NormalY::Up ? "down" : "up") + "\" or \"auto\"");
+                if (!resolved.note.empty() && notes) notes->push_back(resolved.note);
+                if (resolved.flipY)  // DirectX -> OpenGL: negating y keeps the vector unit length
+                    for (int y = 0; y < layer.texture.normal.height(); ++y)
+                        for (int x = 0; x < layer.texture.normal.width(); ++x)
+                            layer.texture.normal.at(x, y, 1) *= -1.0f;
+            } else {
+                layer.texture.normal = normalsFromDepth(layer.texture.depth, layer.texture.depthScale);
+            }
             if (spec.colorFile) layer.texture.color = toRgb(readImage(*spec.colorFile));
         }
         layers.push_back(std::move(layer));

@@ -105,4 +105,45 @@ NormalConventionReport detectNormalConvention(const Image& normals, const Image&
 // "OpenGL", "DirectX", "unknown".
 const char* toString(NormalConvention convention);
 
+// ---------------------------------------------------------------------------------------------
+// Normal-convention safety, shared by every reader of a normal map that has a depth map beside it
+// (import, material layers, texture sets), so that all of them decide the same way.
+enum class NormalY { Up, Down, Auto };  // "normal_y" / --normal-y: up (OpenGL), down (DirectX), auto
+
+// An explicit choice is refused when the gradient contradicts it by this much: the file's x must
+// follow the depth map (r_x > the detection threshold) and its y must point the other way with
+// |r_y| > kConventionContradiction. Measured (tests/relief/test_normal_safety.cpp, six patterns at
+// 128^2, flipped): |r_y| = 1.00 clean and 0.78 to 0.97 with Gaussian noise of 0.2 on x and y;
+// unrelated maps give |r_y| < 0.01 at 256^2. 0.6 sits between, so only a map that is clearly the
+// other convention is refused; a weaker disagreement keeps the explicit choice.
+inline constexpr double kConventionContradiction = 0.6;
+
+struct NormalYResolution {
+    bool flipY = false;  // convert DirectX -> OpenGL
+    std::string note;    // for auto: what was found (or the fallback); for a forced choice: the warning
+};
+
+// `normals`: decoded as stored (no flip); `depth`: its depth map. `label` names the file (or the
+// material key) in messages; `howToFix` ends the error (e.g. "use --normal-y down or auto, or add
+// --force to keep up"). Auto: the detected convention, or up (OpenGL) with a note when it
+// cannot tell. Up/Down: kept, unless the gradient contradicts it by kConventionContradiction;
+// then Error(InvalidInput) "<label>: read as up (OpenGL), but its gradient says DirectX (green down):
+// ... (r = -0.98), more than 0.6 against; <howToFix>", or, with `force`, kept with that text in `note`.
+NormalYResolution resolveNormalY(const Image& normals, const Image& depth, NormalY setting, bool force,
+                                 const std::string& label, const std::string& howToFix);
+
+// Obviously wrong inputs (section B of the input-safety issue). `encoded` is the file as read (values
+// in [0, 1], before decoding); `label` names the file. Each throws Error(InvalidInput) naming the
+// file and what was found.
+// checkNormalMapContent: a normal map that is
+//  - grey: at least 90 % of its texels have r = g = b (within 1/255): a height or grey map;
+//  - signed or zero: more than 25 % of the decoded normals point into the surface (z < 0; a map
+//    stored as signed values clamped to 0, or black, decodes to z = -1), or their mean length before
+//    renormalisation is outside [0.5, 1.5] (a unit map gives 1 up to quantisation).
+// checkDepthMapContent: an RGB(A) image read as height or depth that is a tangent-space normal map:
+//  mean b >= 0.75, mean r and g within 0.15 of 0.5, z > 0 for 99 % of the texels and a mean decoded
+//  length within [0.85, 1.15]. A colour photo or a coloured height map does not meet all of these.
+void checkNormalMapContent(const Image& encoded, const std::string& label);
+void checkDepthMapContent(const Image& encoded, const std::string& label);
+
 }  // namespace strata

@@ -57,6 +57,14 @@ std::vector<std::filesystem::path> writeTextureSet(const std::filesystem::path& 
                                                    const ReliefTexture& texture,
                                                    const TextureSetWriteOptions& options = {});
 
+// Adds (or replaces) the AO map of the set in `dir`: writes ao.png, packed.png with its B channel
+// set to `ao` (its other channels copied as stored, so normals and depth are not re-quantised) and the
+// sidecar's "ao" and "packed" entries, all staged and moved in as a whole, the sidecar last. `ao`:
+// 1 channel at the depth map's size, in [0, 1]. Bit depth: the set's "bit_depth". Returns the paths
+// written. Throws like readSidecar, Error(InvalidInput) for an AO map of another size.
+std::vector<std::filesystem::path> writeTextureSetAo(const std::filesystem::path& dir, const Image& ao,
+                                                     const AoRecord& record);
+
 // Reads a set written by writeTextureSet (its sidecar says which files exist; depth and normal are
 // required). `path` is the directory or its strata.json. Throws Error(Io) for missing files and
 // Error(InvalidInput) for a sidecar that is not valid JSON or not a Strata texture set.

@@ -14,7 +14,7 @@
 //
 // A layer is either a built-in pattern ("pattern", with "size", "seed", "depth_scale" defaulting to the
 // pattern defaults of PatternParams, so the layer equals `strata pattern NAME` with the same flags) or
-// files ("depth" or "height", optional "normal" with "normal_y": "up" | "down", optional "color").
+// files ("depth" or "height", optional "normal" with "normal_y": "up" | "down" | "auto", optional "color").
 // Paths are relative to the material file. A file layer without a normal map gets normals derived
 // from its depth at the material's depth_scale.
 //
@@ -53,6 +53,7 @@ struct MaterialLayer {
     std::optional<std::filesystem::path> heightFile;  // "height": white = high, d = 1 - h
     std::optional<std::filesystem::path> normalFile;  // "normal"
     bool normalYDown = false;                         // "normal_y": "up" (OpenGL, default) | "down" (DirectX)
+    bool normalYAuto = false;  // "normal_y": "auto": detected from the layer's depth at load (up if unknown)
     std::optional<double> fileDepthScale;  // "depth_scale": the S the layer's normal map was made for
     std::optional<std::filesystem::path> colorFile;  // "color"
     // Combination (paper Eq. 1, 2).
