@@ -28,12 +28,13 @@ public:
         name += dir.filename().string();
         name += ".staging" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
         mPath = existingAncestor(dir) / name;
+        // Registered before it exists: a signal that comes as it is made still removes it.
+        mCleanup = std::make_unique<InterruptCleanup>(mPath);
         std::error_code ec;
         std::filesystem::create_directories(mPath, ec);
         if (ec)
             throw Error(ErrorKind::Io,
                         dir.string() + ": cannot create a staging directory beside it: " + ec.message());
-        mCleanup = std::make_unique<InterruptCleanup>(mPath);
     }
     ~StagingDir() {
         std::error_code ec;
