@@ -45,9 +45,9 @@ void writeFileAtomic(const fs::path& dest, const std::function<void(const fs::pa
     const InterruptDeferral deferral;  // the finished file moves in, or the temporary goes
     fs::rename(tmp, dest, ec);
     if (ec) {
+        const std::string reason = ec.message();  // before remove() reuses ec
         fs::remove(tmp, ec);
-        throw Error(ErrorKind::Io,
-                    dest.string() + ": cannot move the finished file into place: " + ec.message());
+        throw Error(ErrorKind::Io, dest.string() + ": cannot move the finished file into place: " + reason);
     }
 }
 
