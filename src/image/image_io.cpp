@@ -498,6 +498,27 @@ std::size_t expectedUncompressedSize(ImageFormat format, const Bytes& b) {
     return 0;
 }
 
+// The fewest bytes run-length coded TGA or BMP data can hold its header's image in: a TGA packet (1 byte
+// and one pixel) repeats at most 128 pixels, a BMP RLE8/RLE4 pair (2 bytes) at most 255. A few bytes
+// claiming a picture of 10^8 texels would otherwise be decoded (and allocated) before they run out.
+// Returns 0 for other data.
+std::uint64_t minimumRunLengthSize(ImageFormat format, const Bytes& b) {
+    if (format == ImageFormat::Tga && b[2] >= 9 && b[2] <= 11) {
+        const std::uint64_t pixels = std::uint64_t{readLe16(b, 12)} * readLe16(b, 14);
+        return 18 + b[0] + (pixels + 127) / 128 * (1 + (b[16] + 7u) / 8u);
+    }
+    if (format == ImageFormat::Bmp && b.size() >= 34 && readLe32(b, 14) >= 40) {
+        const std::uint32_t compression = readLe32(b, 30);
+        if (compression != 1 && compression != 2) return 0;
+        const auto width = static_cast<std::int32_t>(readLe32(b, 18));
+        const std::int64_t height = std::llabs(static_cast<std::int32_t>(readLe32(b, 22)));
+        if (width <= 0) return 0;
+        const std::uint64_t pixels = static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height);
+        return readLe32(b, 10) + (pixels + 254) / 255 * 2;
+    }
+    return 0;
+}
+
 // A JPEG cut short loses its end-of-image marker; stb_image would decode the rest as grey. Walks the
 // marker segments to the first start-of-scan (so that the EOI of an embedded thumbnail is not counted)
 // and looks for an EOI after it. In entropy-coded data 0xFF is always followed by 0x00 or a restart
@@ -543,6 +564,11 @@ Image readStb(const fs::path& path, ImageFormat format, const Bytes& bytes) {
     if (expected > bytes.size())
         fail(ErrorKind::InvalidInput, path,
              std::string("truncated ") + toString(format) + " data (the file ends early)");
+    if (minimumRunLengthSize(format, bytes) > bytes.size())
+        fail(ErrorKind::InvalidInput, path,
+             std::string("truncated ") + toString(format) + " data: the header declares " +
+                 dimensions(info.width, info.height) + ", more than its " + std::to_string(bytes.size()) +
+                 "-byte file can hold even run-length coded");
     // stb_image's 8-bit buffer, then the float image.
     checkReadBudget(path, format, info.width, info.height, info.channels,
                     static_cast<std::uint64_t>(info.width) * static_cast<std::uint64_t>(info.height) *

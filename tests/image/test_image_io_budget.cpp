@@ -153,5 +153,38 @@ TEST(JpegCorruptData, AHeaderClaimingMoreThanTheFileCanHoldIsRefused) {
     EXPECT_EQ(kind, ErrorKind::InvalidInput);
 }
 
+// The fuzzer's finding: a few bytes of run-length coded TGA claiming 12346 x 10752 decoded (1.3 GB) before
+// they ran out. A packet repeats at most 128 pixels, so such a header is refused by the file's size alone.
+TEST(RunLengthData, ATgaHeaderClaimingMoreThanItsPacketsCanHoldIsRefused) {
+    test::ScratchDir dir("rle-tga");
+    std::string tga(18, '\0');
+    tga[2] = 10;  // run-length coded true colour
+    tga[12] = static_cast<char>(12346 & 0xff);
+    tga[13] = static_cast<char>(12346 >> 8);
+    tga[14] = static_cast<char>(10752 & 0xff);
+    tga[15] = static_cast<char>(10752 >> 8);
+    tga[16] = 24;
+    tga += std::string("\xff\x10\x20\x30", 4) + std::string(14, '\0');  // one packet of 128 pixels, and junk
+    test::writeBytes(dir / "big.tga", tga);
+    ErrorKind kind = ErrorKind::Runtime;
+    EXPECT_EQ(
+        readError(dir / "big.tga", &kind),
+        (dir / "big.tga").string() +
+            ": truncated TGA data: the header declares 12346 x 10752, more than its 36-byte file can hold "
+            "even run-length coded");
+    EXPECT_EQ(kind, ErrorKind::InvalidInput);
+    // A small run-length coded TGA whose packets do cover it still reads: 2 x 1, one packet of 2 pixels.
+    std::string small(18, '\0');
+    small[2] = 10;
+    small[12] = 2;
+    small[14] = 1;
+    small[16] = 24;
+    small += std::string("\x81\x10\x20\x30", 4);
+    test::writeBytes(dir / "small.tga", small);
+    const Image image = readImage(dir / "small.tga");
+    EXPECT_EQ(image.width(), 2);
+    EXPECT_NEAR(image.at(1, 0, 2), 0x10 / 255.0, 1e-6);  // TGA stores BGR: blue 0x10
+}
+
 }  // namespace
 }  // namespace strata
