@@ -1005,7 +1005,10 @@ Image readImage(const fs::path& path) {
 }
 
 Image readScalarMap(const fs::path& path, std::string* note) {
-    Image image = readImage(path);
+    return toScalarMap(readImage(path), path, note);
+}
+
+Image toScalarMap(Image image, const fs::path& path, std::string* note) {
     switch (image.channels()) {
         case 1:
             return image;

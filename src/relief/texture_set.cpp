@@ -173,18 +173,10 @@ json readSidecar(const fs::path& path) {
 }
 
 Image readDepthMap(const fs::path& path, DepthEncoding encoding, std::string* note) {
-    // Read once to check that an RGB file is not a normal map given as height or depth, then as
-    // readScalarMap converts it.
+    // Read once to check that an RGB file is not a normal map given as height or depth.
     Image image = readImage(path);
-    const int channels = image.channels();
-    if (channels >= 3) checkDepthMapContent(image, path.string());
-    Image map = channels == 1   ? std::move(image)
-                : channels == 2 ? extractChannel(image, 0)
-                                : luminance(image);
-    if (channels >= 3 && note)
-        *note = path.string() + ": " + (channels == 3 ? "RGB" : "RGBA") +
-                " image read as a scalar map through its luminance (Rec. 709)" +
-                (channels == 4 ? "; alpha ignored" : "");
+    if (image.channels() >= 3) checkDepthMapContent(image, path.string());
+    Image map = toScalarMap(std::move(image), path, note);
     return encoding == DepthEncoding::Height ? heightToDepth(map) : map;
 }
 

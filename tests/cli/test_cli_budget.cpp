@@ -24,7 +24,6 @@
 #pragma GCC diagnostic ignored "-Wconversion"
 #pragma GCC diagnostic ignored "-Wsign-conversion"
 #pragma GCC diagnostic ignored "-Wdouble-promotion"
-#include <stb/stb_image_write.h>  // implementation in libstb; used here only to make fixtures
 #pragma GCC diagnostic pop
 
 namespace strata {
@@ -108,24 +107,6 @@ std::string hostilePng() {
            pngChunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) + pngChunk("IEND", "");
 }
 
-void appendBytes(void* context, void* data, int size) {
-    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
-                                               static_cast<std::size_t>(size));
-}
-
-// A baseline JPEG of `size`^2 noise at quality 90 (stb_image_write).
-std::string noiseJpeg(int size) {
-    std::vector<unsigned char> pixels(static_cast<std::size_t>(size) * static_cast<std::size_t>(size) * 3);
-    std::uint32_t state = 12345;
-    for (unsigned char& p : pixels) {
-        state = state * 1664525u + 1013904223u;
-        p = static_cast<unsigned char>(state >> 24);
-    }
-    std::string out;
-    stbi_write_jpg_to_func(appendBytes, &out, size, size, 3, pixels.data(), 90);
-    return out;
-}
-
 std::string quoted(const fs::path& path) {
     return path.string();
 }
@@ -148,7 +129,7 @@ TEST(CliBudget, APngHeaderClaiming16384SquaredRgba16IsRefusedBeforeDecoding) {
 
 TEST(CliBudget, AJpegHeaderClaiming16000SquaredIsRefusedBeforeDecoding) {
     test::ScratchDir dir("budget-jpeg");
-    std::string bytes = noiseJpeg(96);
+    std::string bytes = test::noiseJpeg(96, 12345u);
     // Patch the baseline frame header (FF C0, length, precision, height, width) to 16000 x 16000.
     const std::size_t sof = bytes.find("\xff\xc0", 0, 2);
     ASSERT_NE(sof, std::string::npos);
@@ -165,7 +146,7 @@ TEST(CliBudget, AJpegHeaderClaiming16000SquaredIsRefusedBeforeDecoding) {
 
 TEST(CliBudget, ATruncatedJpegWithAnEndMarkerAppendedIsCorrupt) {
     test::ScratchDir dir("budget-jpeg-cut");
-    const std::string full = noiseJpeg(64);
+    const std::string full = test::noiseJpeg(64, 12345u);
     test::writeBytes(dir / "ok.jpg", full);
     ASSERT_EQ(runMeasured({"info", quoted(dir / "ok.jpg")}, dir.path()).exitCode, 0);
     // Half the entropy-coded data, then FF D9: stb_image read this as an image with a flat lower half.

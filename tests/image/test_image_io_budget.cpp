@@ -18,7 +18,6 @@
 #pragma GCC diagnostic ignored "-Wconversion"
 #pragma GCC diagnostic ignored "-Wsign-conversion"
 #pragma GCC diagnostic ignored "-Wdouble-promotion"
-#include <stb/stb_image_write.h>  // implementation in libstb; used here only to make fixtures
 #pragma GCC diagnostic pop
 
 namespace strata {
@@ -101,26 +100,9 @@ TEST(ExrFiniteValues, NanAndInfinityAreErrorsNamingTheFirstTexel) {
             ": EXR channel Y holds -inf at column 0, row 3 (row 0 is the top); only finite values are read");
 }
 
-void appendBytes(void* context, void* data, int size) {
-    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
-                                               static_cast<std::size_t>(size));
-}
-
-std::string noiseJpeg(int size) {
-    std::vector<unsigned char> pixels(static_cast<std::size_t>(size) * static_cast<std::size_t>(size) * 3);
-    std::uint32_t state = 7;
-    for (unsigned char& p : pixels) {
-        state = state * 1664525u + 1013904223u;
-        p = static_cast<unsigned char>(state >> 24);
-    }
-    std::string out;
-    stbi_write_jpg_to_func(appendBytes, &out, size, size, 3, pixels.data(), 90);
-    return out;
-}
-
 TEST(JpegCorruptData, ACutFileWithAnEndMarkerAppendedIsAnError) {
     ScratchDir dir("jpeg-cut-eoi");
-    const std::string full = noiseJpeg(64);
+    const std::string full = test::noiseJpeg(64, 7u);
     test::writeBytes(dir / "ok.jpg", full);
     const Image ok = readImage(dir / "ok.jpg");
     EXPECT_EQ(ok.width(), 64);
@@ -138,7 +120,7 @@ TEST(JpegCorruptData, ACutFileWithAnEndMarkerAppendedIsAnError) {
 
 TEST(JpegCorruptData, AHeaderClaimingMoreThanTheFileCanHoldIsRefused) {
     ScratchDir dir("jpeg-big");
-    std::string bytes = noiseJpeg(16);
+    std::string bytes = test::noiseJpeg(16, 7u);
     const std::size_t sof = bytes.find("\xff\xc0", 0, 2);
     ASSERT_NE(sof, std::string::npos);
     bytes[sof + 5] = bytes[sof + 7] = static_cast<char>(16000 >> 8);

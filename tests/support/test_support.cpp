@@ -2,6 +2,8 @@
 
 #include "strata/core/check.h"
 
+#include <stb/stb_image_write.h>  // implementation in libstb (linked through strata::image)
+
 #include <sys/wait.h>
 #include <unistd.h>
 #include <array>
@@ -9,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -36,6 +39,25 @@ CommandResult runCli(const std::string& args) {
     while (std::fgets(buffer.data(), static_cast<int>(buffer.size()), pipe)) output += buffer.data();
     const int status = ::pclose(pipe);
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+namespace {
+void appendBytes(void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                               static_cast<std::size_t>(size));
+}
+}  // namespace
+
+std::string noiseJpeg(int size, std::uint32_t seed) {
+    std::vector<unsigned char> pixels(static_cast<std::size_t>(size) * static_cast<std::size_t>(size) * 3);
+    std::uint32_t state = seed;
+    for (unsigned char& p : pixels) {
+        state = state * 1664525u + 1013904223u;
+        p = static_cast<unsigned char>(state >> 24);
+    }
+    std::string out;
+    stbi_write_jpg_to_func(appendBytes, &out, size, size, 3, pixels.data(), 90);
+    return out;
 }
 
 void writeBytes(const fs::path& path, const std::string& bytes) {

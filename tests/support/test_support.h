@@ -3,6 +3,7 @@
 
 #include "strata/image/image.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -29,6 +30,10 @@ struct CommandResult {
 
 // Runs the built `strata` binary with the given argument string (shell-quoted by the caller).
 CommandResult runCli(const std::string& args);
+
+// A baseline JPEG (stb_image_write, quality 90) of `size` x `size` RGB noise from `seed`: a file whose every
+// block carries data, for corrupt- and oversized-JPEG tests.
+std::string noiseJpeg(int size, std::uint32_t seed);
 
 // Writes raw bytes to a file (for corrupt-file tests).
 void writeBytes(const std::filesystem::path& path, const std::string& bytes);

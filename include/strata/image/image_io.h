@@ -53,6 +53,8 @@ Image readImage(const std::filesystem::path& path);
 // A gray or gray+alpha file gives its gray channel. An RGB or RGBA file gives its Rec. 709
 // luminance, and a note naming the file goes to `note` (the CLI prints it on stderr).
 Image readScalarMap(const std::filesystem::path& path, std::string* note = nullptr);
+// The same for an image already read from `path` (for a caller that inspects the file's channels first).
+Image toScalarMap(Image image, const std::filesystem::path& path, std::string* note = nullptr);
 
 enum class PngBitDepth { Eight = 8, Sixteen = 16 };
 
