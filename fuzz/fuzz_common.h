@@ -8,6 +8,7 @@
 #include <unistd.h>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -48,6 +49,14 @@ int expectOnlyErrors(F&& f) {
     } catch (const Error&) {
     }
     return 0;
+}
+
+// STRATA_FUZZ_SEED_OUT=DIR: copies a valid file that a target wrote into DIR as valid.json (how the
+// sidecar-like corpora were seeded).
+inline void exportSeed(const std::filesystem::path& valid) {
+    if (const char* out = std::getenv("STRATA_FUZZ_SEED_OUT"))
+        std::filesystem::copy_file(valid, std::filesystem::path(out) / "valid.json",
+                                   std::filesystem::copy_options::overwrite_existing);
 }
 
 }  // namespace strata::fuzz

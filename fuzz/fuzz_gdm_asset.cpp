@@ -29,10 +29,7 @@ const std::filesystem::path& assetDir() {
         asset.source = "fuzz";
         asset.bake = {"--size 2x2x2", 0.5, "2026-12-04T00:00:00Z"};
         writeGdmAsset(path, asset);
-        // STRATA_FUZZ_SEED_OUT=DIR: copy the valid sidecar there (how fuzz/corpus/fuzz_gdm_asset was seeded).
-        if (const char* out = std::getenv("STRATA_FUZZ_SEED_OUT"))
-            std::filesystem::copy_file(path / kGdmAssetSidecar, std::filesystem::path(out) / "valid.json",
-                                       std::filesystem::copy_options::overwrite_existing);
+        fuzz::exportSeed(path / kGdmAssetSidecar);
         return path;
     }();
     return dir;

@@ -24,10 +24,7 @@ const std::filesystem::path& setDir() {
         options.ao->method = "sweep";
         options.ao->directions = 8;
         writeTextureSet(path, texture, options);
-        // STRATA_FUZZ_SEED_OUT=DIR: copy the valid sidecar there (how fuzz/corpus/fuzz_sidecar was seeded).
-        if (const char* out = std::getenv("STRATA_FUZZ_SEED_OUT"))
-            std::filesystem::copy_file(path / kSidecarName, std::filesystem::path(out) / "valid.json",
-                                       std::filesystem::copy_options::overwrite_existing);
+        fuzz::exportSeed(path / kSidecarName);
         return path;
     }();
     return dir;
