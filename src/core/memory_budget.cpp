@@ -26,6 +26,26 @@ std::atomic<std::uint64_t>& budgetStorage() {
     return budget;
 }
 
+std::atomic<std::uint64_t>& trackedStorage() {
+    static std::atomic<std::uint64_t> tracked{0};
+    return tracked;
+}
+
+[[noreturn]] void refuse(std::uint64_t bytes, std::uint64_t held, const std::string& what) {
+    std::string message = what + " needs " + formatBytes(bytes);
+    if (held > 0)
+        message += "; with " + formatBytes(held) + " of images already held, that is";
+    else
+        message += ",";
+    throw Error(ErrorKind::Unsupported, message + " more than the memory budget of " +
+                                            formatBytes(memoryBudget()) + " (--max-memory)");
+}
+
+// held + bytes > budget, without wrapping.
+bool over(std::uint64_t held, std::uint64_t bytes, std::uint64_t budget) {
+    return bytes > budget || held > budget - bytes;
+}
+
 }  // namespace
 
 std::uint64_t physicalMemoryBytes() {
@@ -111,11 +131,24 @@ std::string formatBytes(std::uint64_t bytes) {
 }
 
 void reserveOrThrow(std::uint64_t bytes, const std::string& what) {
-    const std::uint64_t budget = memoryBudget();
-    if (bytes <= budget) return;
-    throw Error(ErrorKind::Unsupported, what + " needs " + formatBytes(bytes) +
-                                            ", more than the memory budget of " + formatBytes(budget) +
-                                            " (--max-memory)");
+    const std::uint64_t held = trackedBytes();
+    if (over(held, bytes, memoryBudget())) refuse(bytes, held, what);
+}
+
+std::uint64_t trackedBytes() {
+    return trackedStorage().load(std::memory_order_relaxed);
+}
+
+void acquireTracked(std::uint64_t bytes, const std::string& what) {
+    std::atomic<std::uint64_t>& tracked = trackedStorage();
+    std::uint64_t held = tracked.load(std::memory_order_relaxed);
+    do {
+        if (over(held, bytes, memoryBudget())) refuse(bytes, held, what);
+    } while (!tracked.compare_exchange_weak(held, held + bytes, std::memory_order_relaxed));
+}
+
+void releaseTracked(std::uint64_t bytes) noexcept {
+    trackedStorage().fetch_sub(bytes, std::memory_order_relaxed);
 }
 
 void checkAllocation(long long width, long long height, long long channels, long long bytesPerSample,

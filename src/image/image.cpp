@@ -14,13 +14,9 @@ namespace strata {
 namespace {
 constexpr std::size_t kHugePage = std::size_t{2} << 20;
 constexpr std::size_t kHugeThreshold = std::size_t{4} << 20;
-}  // namespace
 
-void* Image::allocatePixels(std::size_t bytes) {
-    if (bytes < kHugeThreshold) {
-        void* pointer = ::operator new(bytes);
-        return pointer;
-    }
+void* allocateUntracked(std::size_t bytes) {
+    if (bytes < kHugeThreshold) return ::operator new(bytes);
     const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
     void* pointer = std::aligned_alloc(kHugePage, rounded);
     if (!pointer) throw std::bad_alloc();
@@ -30,12 +26,27 @@ void* Image::allocatePixels(std::size_t bytes) {
     return pointer;
 }
 
+}  // namespace
+
+// Every pixel buffer counts against the memory budget for as long as it lives, copies included. The
+// constructor has already checked the same request with a message naming the image's dimensions.
+void* Image::allocatePixels(std::size_t bytes) {
+    acquireTracked(bytes, "an image of " + formatBytes(bytes));
+    try {
+        return allocateUntracked(bytes);
+    } catch (...) {
+        releaseTracked(bytes);
+        throw;
+    }
+}
+
 void Image::freePixels(void* pointer, std::size_t bytes) noexcept {
     if (bytes < kHugeThreshold) {
         ::operator delete(pointer);
     } else {
         std::free(pointer);
     }
+    releaseTracked(bytes);
 }
 
 Image::Image(int width, int height, int channels, UninitializedTag)

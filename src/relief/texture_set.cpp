@@ -41,7 +41,33 @@ Image resampleNormals(const Image& normals, int width, int height) {
     return out;
 }
 
+// How one data map is written: a PNG of the set's bit depth, or a float EXR.
+struct MapWriter {
+    MapFileFormat format;
+    PngWriteOptions png;
+    std::string name(const std::string& stem) const { return stem + "." + toString(format); }
+    void write(const fs::path& path, const Image& image) const {
+        if (format == MapFileFormat::Exr)
+            writeExr(path, image);
+        else
+            writePng(path, image, png);
+    }
+};
+
+constexpr const char* kPackedLayout =
+    "R = nx * 0.5 + 0.5, G = ny * 0.5 + 0.5, B = AO, A = depth; nz = sqrt(1 - nx^2 - ny^2)";
+
 }  // namespace
+
+const char* toString(MapFileFormat format) {
+    return format == MapFileFormat::Exr ? "exr" : "png";
+}
+
+MapFileFormat parseMapFileFormat(const std::string& text, const std::string& flag) {
+    if (text == "png") return MapFileFormat::Png;
+    if (text == "exr") return MapFileFormat::Exr;
+    throw Error(ErrorKind::Usage, flag + ": must be png or exr, got '" + text + "'");
+}
 
 Image packRelief(const ReliefTexture& texture) {
     const int width = texture.depth.width();
@@ -79,27 +105,35 @@ std::vector<fs::path> writeTextureSet(const fs::path& dir, const ReliefTexture& 
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
         throw Error(ErrorKind::Io, dir.string() + ": exists and is not a directory");
 
-    const PngWriteOptions data{options.bitDepth == 8 ? PngBitDepth::Eight : PngBitDepth::Sixteen, true};
+    const MapWriter data{options.format,
+                         {options.bitDepth == 8 ? PngBitDepth::Eight : PngBitDepth::Sixteen, true}};
     const PngWriteOptions colour{PngBitDepth::Eight, true};
+    const bool exr = options.format == MapFileFormat::Exr;
 
     json sidecar;
     sidecar["format"] = kSidecarFormat;
     sidecar["format_version"] = 1;
     sidecar["tool"] = std::string("strata ") + kVersion;
     sidecar["depth_scale"] = texture.depthScale;
-    sidecar["bit_depth"] = options.bitDepth;
+    // EXR maps are 32-bit float whatever --bit-depth says (the colour map is always 8-bit sRGB).
+    sidecar["file_format"] = toString(options.format);
+    sidecar["bit_depth"] = exr ? 32 : options.bitDepth;
     sidecar["texture_space"] =
         "u along +x (tangent), v along +y (bitangent); file row 0 is v = 1; tiles toroidally";
-    sidecar["depth"] = {{"file", "depth.png"},
+    sidecar["depth"] = {{"file", data.name("depth")},
                         {"encoding", "depth"},
                         {"meaning", "0 = polygon surface (top), 1 = deepest; relief point (u, v, -S * d)"},
                         {"size", sizeOf(texture.depth)}};
-    sidecar["normal"] = {{"file", "normal.png"},
-                         {"convention", "opengl"},
-                         {"green", "up (+y towards v = 1)"},
-                         {"encoding", "n * 0.5 + 0.5"},
-                         {"source", options.normalSource},
-                         {"valid_for_depth_scale", texture.depthScale},
+    if (options.height)
+        sidecar["height"] = {{"file", data.name("height")},
+                             {"encoding", "height"},
+                             {"meaning", "h = 1 - depth: 1 = polygon surface (top, white), 0 = deepest"},
+                             {"amplitude", texture.depthScale},
+                             {"amplitude_meaning", "h = 0 lies S tile widths below h = 1 (S = depth_scale)"},
+                             {"size", sizeOf(texture.depth)}};
+    sidecar["normal"] = {{"file", data.name("normal")},      {"convention", "opengl"},
+                         {"green", "up (+y towards v = 1)"}, {"encoding", "n * 0.5 + 0.5"},
+                         {"source", options.normalSource},   {"valid_for_depth_scale", texture.depthScale},
                          {"size", sizeOf(texture.normal)}};
     sidecar["color"] = texture.color.empty() ? json(nullptr)
                                              : json{{"file", "color.png"},
@@ -109,7 +143,7 @@ std::vector<fs::path> writeTextureSet(const fs::path& dir, const ReliefTexture& 
     if (texture.ao.empty()) {
         sidecar["ao"] = nullptr;
     } else {
-        sidecar["ao"] = {{"file", "ao.png"},
+        sidecar["ao"] = {{"file", data.name("ao")},
                          {"radius", options.ao->radius},
                          {"definition", options.ao->definition},
                          {"method", options.ao->method},
@@ -117,11 +151,10 @@ std::vector<fs::path> writeTextureSet(const fs::path& dir, const ReliefTexture& 
                          {"baked_at_depth_scale", texture.depthScale},
                          {"size", sizeOf(texture.ao)}};
     }
-    sidecar["packed"] = {
-        {"file", "packed.png"},
-        {"layout", "R = nx * 0.5 + 0.5, G = ny * 0.5 + 0.5, B = AO, A = depth; nz = sqrt(1 - nx^2 - ny^2)"},
-        {"ao_channel", texture.ao.empty() ? "no AO map: 1.0 (fully open)" : "ao.png"},
-        {"size", sizeOf(texture.depth)}};
+    sidecar["packed"] = {{"file", data.name("packed")},
+                         {"layout", kPackedLayout},
+                         {"ao_channel", texture.ao.empty() ? "no AO map: 1.0 (fully open)" : data.name("ao")},
+                         {"size", sizeOf(texture.depth)}};
     try {
         sidecar["source"] = json::parse(options.sourceJson);
     } catch (const json::exception&) {
@@ -132,16 +165,21 @@ std::vector<fs::path> writeTextureSet(const fs::path& dir, const ReliefTexture& 
     // (and uncreated, if it did not exist).
     std::vector<std::string> names;
     detail::StagingDir staging(dir);
-    auto stage = [&](const std::string& name, const Image& image, const PngWriteOptions& png) {
+    auto stage = [&](const std::string& name, auto write) {
         refuseToOverwriteInputs(dir / name, options.inputs);
-        writePng(staging.path() / name, image, png);
+        write(staging.path() / name);
         names.push_back(name);
     };
-    stage("depth.png", texture.depth, data);
-    stage("normal.png", encodeNormals(texture.normal), data);
-    if (!texture.color.empty()) stage("color.png", texture.color, colour);
-    if (!texture.ao.empty()) stage("ao.png", texture.ao, data);
-    stage("packed.png", packRelief(texture), data);
+    auto stageData = [&](const std::string& stem, const Image& image) {
+        stage(data.name(stem), [&](const fs::path& path) { data.write(path, image); });
+    };
+    stageData("depth", texture.depth);
+    if (options.height) stageData("height", heightToDepth(texture.depth));  // the same map both ways
+    stageData("normal", encodeNormals(texture.normal));
+    if (!texture.color.empty())
+        stage("color.png", [&](const fs::path& path) { writePng(path, texture.color, colour); });
+    if (!texture.ao.empty()) stageData("ao", texture.ao);
+    stageData("packed", packRelief(texture));
     refuseToOverwriteInputs(dir / kSidecarName, options.inputs);
     writeTextFileAtomic(staging.path() / kSidecarName, sidecar.dump(2) + "\n");
     names.emplace_back(kSidecarName);
@@ -177,7 +215,8 @@ Image readDepthMap(const fs::path& path, DepthEncoding encoding, std::string* no
     Image image = readImage(path);
     if (image.channels() >= 3) checkDepthMapContent(image, path.string());
     Image map = toScalarMap(std::move(image), path, note);
-    return encoding == DepthEncoding::Height ? heightToDepth(map) : map;
+    if (encoding == DepthEncoding::Height) return heightToDepth(map);
+    return map;  // moved, not copied: a 16384^2 depth map is 1 GiB
 }
 
 Image readNormalMap(const fs::path& path, bool flipY) {
@@ -236,7 +275,11 @@ std::vector<fs::path> writeTextureSetAo(const fs::path& dir, const Image& ao, co
                         std::to_string(ao.height()) + ", the set's depth map " +
                         std::to_string(texture.depth.width()) + "x" + std::to_string(texture.depth.height()));
     const int bitDepth = sidecar.value("bit_depth", 16) == 8 ? 8 : 16;
-    const PngWriteOptions data{bitDepth == 8 ? PngBitDepth::Eight : PngBitDepth::Sixteen, true};
+    const auto fileFormat = sidecar.find("file_format");
+    const MapFileFormat format =
+        fileFormat != sidecar.end() && fileFormat->is_string() && *fileFormat == "exr" ? MapFileFormat::Exr
+                                                                                       : MapFileFormat::Png;
+    const MapWriter data{format, {bitDepth == 8 ? PngBitDepth::Eight : PngBitDepth::Sixteen, true}};
     // The packed map as stored (when it is there and the right size), only B replaced.
     Image packed;
     const auto packedEntry = sidecar.find("packed");
@@ -251,24 +294,25 @@ std::vector<fs::path> writeTextureSetAo(const fs::path& dir, const Image& ao, co
     for (int y = 0; y < ao.height(); ++y)
         for (int x = 0; x < ao.width(); ++x) packed.at(x, y, 2) = ao.at(x, y);
 
-    sidecar["ao"] = {{"file", "ao.png"},
+    const std::string aoName = data.name("ao");
+    const std::string packedName = data.name("packed");
+    sidecar["ao"] = {{"file", aoName},
                      {"radius", record.radius},
                      {"definition", record.definition},
                      {"method", record.method},
                      {"directions", record.directions},
                      {"baked_at_depth_scale", texture.depthScale},
                      {"size", sizeOf(ao)}};
-    sidecar["packed"] = {
-        {"file", "packed.png"},
-        {"layout", "R = nx * 0.5 + 0.5, G = ny * 0.5 + 0.5, B = AO, A = depth; nz = sqrt(1 - nx^2 - ny^2)"},
-        {"ao_channel", "ao.png"},
-        {"size", sizeOf(texture.depth)}};
+    sidecar["packed"] = {{"file", packedName},
+                         {"layout", kPackedLayout},
+                         {"ao_channel", aoName},
+                         {"size", sizeOf(texture.depth)}};
 
     detail::StagingDir staging(dir);
-    writePng(staging.path() / "ao.png", ao, data);
-    writePng(staging.path() / "packed.png", packed, data);
+    data.write(staging.path() / aoName, ao);
+    data.write(staging.path() / packedName, packed);
     writeTextFileAtomic(staging.path() / kSidecarName, sidecar.dump(2) + "\n");
-    return staging.moveInto(dir, {"ao.png", "packed.png", kSidecarName});
+    return staging.moveInto(dir, {aoName, packedName, kSidecarName});
 }
 
 }  // namespace strata

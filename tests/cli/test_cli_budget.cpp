@@ -13,6 +13,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <zlib.h>
+
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -107,6 +109,37 @@ std::string hostilePng() {
            pngChunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) + pngChunk("IEND", "");
 }
 
+// A width x height 8-bit PNG of `channels` (1 = grey, 3 = RGB) whose every sample is `value`, deflated
+// row by row so that a 16384^2 map never exists in this process (zlib's default level: about 1000:1
+// on constant rows).
+void writeConstantPng(const fs::path& path, int width, int height, int channels, unsigned char value) {
+    const std::string ihdr = bigEndian32(static_cast<std::uint32_t>(width)) +
+                             bigEndian32(static_cast<std::uint32_t>(height)) +
+                             std::string{8, static_cast<char>(channels == 3 ? 2 : 0), 0, 0, 0};
+    std::vector<unsigned char> row(1 + static_cast<std::size_t>(width) * static_cast<std::size_t>(channels),
+                                   value);
+    row[0] = 0;  // filter type None
+    z_stream z{};
+    ASSERT_EQ(deflateInit(&z, Z_DEFAULT_COMPRESSION), Z_OK);
+    std::string idat;
+    std::vector<unsigned char> out(1 << 16);
+    for (int y = 0; y <= height; ++y) {
+        const bool last = y == height;
+        z.next_in = last ? nullptr : row.data();
+        z.avail_in = last ? 0u : static_cast<unsigned>(row.size());
+        int status = Z_OK;
+        do {
+            z.next_out = out.data();
+            z.avail_out = static_cast<unsigned>(out.size());
+            status = deflate(&z, last ? Z_FINISH : Z_NO_FLUSH);
+            idat.append(reinterpret_cast<const char*>(out.data()), out.size() - z.avail_out);
+        } while (z.avail_out == 0 || (last && status != Z_STREAM_END));
+    }
+    deflateEnd(&z);
+    test::writeBytes(path, std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr) +
+                               pngChunk("IDAT", idat) + pngChunk("IEND", ""));
+}
+
 std::string quoted(const fs::path& path) {
     return path.string();
 }
@@ -199,18 +232,57 @@ TEST(CliBudget, AGltfAccessorOf400MillionElementsIsRefusedBeforeAllocating) {
 
 TEST(CliBudget, AValidNormalMapOverTheBudgetIsRefusedBeforeItIsDecoded) {
     test::ScratchDir dir("budget-normal");
-    // An all-zero (flat-encoded) 2048^2 RGB normal map: 48 MiB of floats once read.
-    // Its 2048^2 height map (16 MiB of floats) fits in the budget; the normal map does not.
-    writePng(dir / "n.png", Image(2048, 2048, 3, 0.0f), {PngBitDepth::Eight, false});
-    writePng(dir / "h.png", Image(2048, 2048, 1, 0.0f), {PngBitDepth::Eight, false});
-    expectRefused(runMeasured({"--max-memory", "32M", "import", "--height", quoted(dir / "h.png"), "--normal",
-                               quoted(dir / "n.png"), "-o", quoted(dir / "set")},
-                              dir.path()),
-                  5,
-                  "strata: error: " + (dir / "n.png").string() +
-                      ": a 2048 x 2048 PNG of 3 channels needs 48 MiB, more than the memory budget of 32 MiB "
-                      "(--max-memory)");
+    // An all-zero (flat-encoded) 2048^2 RGB normal map: 48 MiB of floats once read, over a 32 MiB budget
+    // on its own.
+    writeConstantPng(dir / "n.png", 2048, 2048, 3, 0);
+    writeConstantPng(dir / "h.png", 2048, 2048, 1, 128);
+    expectRefused(
+        runMeasured({"--max-memory", "32M", "import", "--height", quoted(dir / "h.png"), "--normal",
+                     quoted(dir / "n.png"), "-o", quoted(dir / "set")},
+                    dir.path()),
+        5, "strata: error: " + (dir / "n.png").string() + ": a 2048 x 2048 PNG of 3 channels needs 48 MiB");
     EXPECT_FALSE(fs::exists(dir / "set"));
+}
+
+// The budget bounds every image the process holds at once, not each request alone: the depth map read
+// first counts against the normal map read next.
+TEST(CliBudget, TheBudgetCountsTheImagesAlreadyHeld) {
+    test::ScratchDir dir("budget-held");
+    writeConstantPng(dir / "n.png", 2048, 2048, 3, 0);
+    writeConstantPng(dir / "d.png", 2048, 2048, 1, 128);
+    // The normal map's 48 MiB fit in 56 MiB on their own; with the depth map's 16 MiB held they do not.
+    const Measured result = runMeasured({"--max-memory", "56M", "import", "--depth", quoted(dir / "d.png"),
+                                         "--normal", quoted(dir / "n.png"), "-o", quoted(dir / "set")},
+                                        dir.path());
+    expectRefused(
+        result, 5,
+        "strata: error: " + (dir / "n.png").string() +
+            ": a 2048 x 2048 PNG of 3 channels needs 48 MiB; with 16 MiB of images already held, that "
+            "is more than the memory budget of 56 MiB (--max-memory)");
+    EXPECT_FALSE(fs::exists(dir / "set"));
+}
+
+// The case: an all-zero 16384^2 normal map cost 9.4 GB. Next to its 16384^2 depth map (1 GiB of
+// floats) its 3 GiB do not fit a 3.5 GiB budget, and the process stops holding the depth map alone: the
+// measured peak is the depth map plus the ~40 MiB every run costs, far under the budget.
+TEST(CliBudget, AnAllZero16384SquaredNormalMapStaysUnderTheBudget) {
+    test::ScratchDir dir("budget-zero-normal");
+    writeConstantPng(dir / "n.png", 16384, 16384, 3, 0);
+    writeConstantPng(dir / "d.png", 16384, 16384, 1, 128);
+    const Measured result = runMeasured({"--max-memory", "3584M", "import", "--depth", quoted(dir / "d.png"),
+                                         "--normal", quoted(dir / "n.png"), "-o", quoted(dir / "set")},
+                                        dir.path());
+    EXPECT_EQ(result.exitCode, 5) << result.output;
+    EXPECT_NE(
+        result.output.find("strata: error: " + (dir / "n.png").string() +
+                           ": a 16384 x 16384 PNG of 3 channels needs 3.00 GiB; with 1.00 GiB of images "
+                           "already held, that is more than the memory budget of 3.50 GiB (--max-memory)"),
+        std::string::npos)
+        << result.output;
+    EXPECT_LT(result.peakKiB, 1024 * 1024 + kPeakLimitKiB) << result.output;
+    EXPECT_GT(result.peakKiB, 1024 * 1024) << "the depth map was read: " << result.output;
+    EXPECT_FALSE(fs::exists(dir / "set"));
+    std::printf("peak %ld KiB: %s", result.peakKiB, result.output.c_str());
 }
 
 TEST(CliBudget, ASizeFlagOverTheBudgetIsRefusedBeforeAllocating) {

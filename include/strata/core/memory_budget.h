@@ -3,8 +3,11 @@
 // Every reader checks the sizes a file's header declares against the budget before it allocates
 // anything proportional to them, and so does every strata::Image allocation, so that a tiny hostile
 // file (a 69-byte PNG claiming 16384^2 RGBA16) or a large --size fails at once instead of using
-// gigabytes. The budget bounds one allocation request as the caller estimates it (a reader counts
-// its decoded image and its decoder buffers), not the sum of everything the process holds.
+// gigabytes. The budget bounds what the process holds in images: every strata::Image's pixels are
+// tracked from allocation to release, and a request (a reader's decoded image and decoder buffers, a
+// new image) is refused when it would take the tracked total over the budget. Memory that is not
+// image pixels (meshes, GDM volumes, GL objects, the libraries) is checked per request where it is
+// sized from input (mesh accessors, OBJ files), not tracked.
 //
 // Default: half the machine's physical memory (sysconf(_SC_PHYS_PAGES) * _SC_PAGE_SIZE); 4 GiB when
 // that cannot be read. Set with setMemoryBudget (the CLI's --max-memory SIZE).
@@ -36,9 +39,18 @@ std::uint64_t parseMemorySize(const std::string& text, const std::string& flag =
 // "512 MiB", "4.00 GiB", "1000 bytes": how the budget messages show a size.
 std::string formatBytes(std::uint64_t bytes);
 
-// Throws Error(Unsupported) when `bytes` exceeds the budget. `what` names the request and its source
-// ("file.png: a 16384 x 16384 RGBA16 PNG").
+// Throws Error(Unsupported) when `bytes` on top of trackedBytes() exceeds the budget. `what` names the
+// request and its source ("file.png: a 16384 x 16384 RGBA16 PNG"). Tracks nothing itself.
 void reserveOrThrow(std::uint64_t bytes, const std::string& what);
+
+// Bytes held in tracked buffers now: the pixels of every live strata::Image.
+std::uint64_t trackedBytes();
+
+// Checks `bytes` as reserveOrThrow does and adds them to the tracked total, atomically (two threads
+// cannot both pass the check with room for one). Pair with releaseTracked.
+void acquireTracked(std::uint64_t bytes, const std::string& what);
+// Removes bytes added by acquireTracked.
+void releaseTracked(std::uint64_t bytes) noexcept;
 
 // width * height * channels * bytesPerSample, computed without overflow (a product beyond 2^64
 // saturates and is always refused), then reserveOrThrow. Negative factors count as zero.
