@@ -8,6 +8,7 @@
 
 #include "strata/core/error.h"
 #include "strata/core/interrupt.h"
+#include "strata/core/memory_budget.h"
 #include "strata/core/version.h"
 
 #include <CLI/CLI.hpp>
@@ -104,6 +105,13 @@ int main(int argc, char** argv) {
                    "With --env: a glossy term's specular coefficient, >= 0, default 0 (none)");
     app.add_option("--env-shininess", options.env.shininess,
                    "With --env-specular: the glossy lobe's Phong exponent, 0..64, default 8");
+    // The memory budget, as `strata --max-memory` (docs/cli.md): every image the viewer holds counts.
+    app.add_option_function<std::string>(
+           "--max-memory",
+           [](const std::string& text) { strata::setMemoryBudget(strata::parseMemorySize(text)); },
+           "Refuse materials and screenshots that need more memory than SIZE (e.g. 512M, 4G); default half "
+           "of physical memory")
+        ->type_name("SIZE");
 
     try {
         app.parse(argc, argv);

@@ -134,6 +134,7 @@ private:
     void gdmPanel();
     void layerControls(int index, int& removeIndex, int& moveFrom, int& moveTo);
     void addLayerControls();
+    void normalYControl(MaterialLayer& layer);
     void savePanel();
     void statsOverlay();
     void setStatus(std::string message, bool error);
@@ -158,6 +159,7 @@ private:
     int mAddSeed = 1;
     std::string mAddDepthFile, mAddNormalFile, mAddColorFile;
     bool mAddIsHeight = false;
+    int mAddNormalY = 0;  // the added layer's "normal_y": 0 auto (as `strata import`), 1 up, 2 down
     std::string mMaterialPath;
     std::string mScreenshotPath = "strata-view.png";
     bool mScreenshotWithUi = false;

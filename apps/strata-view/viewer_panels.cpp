@@ -504,6 +504,7 @@ void Viewer::layerControls(int index, int& removeIndex, int& moveFrom, int& move
             const fs::path& file = layer.depthFile ? *layer.depthFile : *layer.heightFile;
             ImGui::TextColored(kDimColor, "%s %s", layer.depthFile ? "depth" : "height",
                                file.string().c_str());
+            if (layer.normalFile) normalYControl(layer);
         }
         if (hasColor(layer)) {
             if (ImGui::RadioButton("colour from this layer", mMaterial.compose.colorFrom == index))
@@ -511,6 +512,17 @@ void Viewer::layerControls(int index, int& removeIndex, int& moveFrom, int& move
         }
     }
     ImGui::PopID();
+}
+
+// The green channel of a layer's normal map ("normal_y" in the material): auto detects it from the layer's
+// depth when the layer is read, as `strata import` does; up or down says it. A change re-reads the layer,
+// and an explicit choice that the depth's gradient clearly contradicts is reported in the status line.
+void Viewer::normalYControl(MaterialLayer& layer) {
+    int normalY = layer.normalYAuto ? 0 : layer.normalYDown ? 2 : 1;
+    if (ImGui::Combo("normal y", &normalY, "auto (from depth)\0up (OpenGL)\0down (DirectX)\0")) {
+        layer.normalYAuto = normalY == 0;
+        layer.normalYDown = normalY == 2;
+    }
 }
 
 void Viewer::addLayerControls() {
@@ -530,6 +542,7 @@ void Viewer::addLayerControls() {
     ImGui::InputTextWithHint("depth / height", "file (0 = top) or texture set dir", &mAddDepthFile);
     ImGui::Checkbox("height map (white = high)", &mAddIsHeight);
     ImGui::InputTextWithHint("normal", "optional", &mAddNormalFile);
+    ImGui::Combo("normal y##add", &mAddNormalY, "auto (from depth)\0up (OpenGL)\0down (DirectX)\0");
     ImGui::InputTextWithHint("colour", "optional", &mAddColorFile);
     if (ImGui::Button("add file layer")) {
         try {
@@ -538,6 +551,8 @@ void Viewer::addLayerControls() {
                 layer = openMaterial(mAddDepthFile).layers.front();  // a texture set: its maps
             } else {
                 layer = fileLayer(mAddDepthFile, mAddIsHeight, mAddNormalFile, mAddColorFile);
+                layer.normalYAuto = mAddNormalY == 0;
+                layer.normalYDown = mAddNormalY == 2;
             }
             // Read it now, so that a bad file is reported here and never enters the material.
             Material single;

@@ -27,12 +27,33 @@ void note(const std::string& message) {
     std::cerr << "strata: note: " << message << "\n";
 }
 
-void addBitDepthOption(CLI::App& command, int& bitDepth) {
+void addSetOutputOptions(CLI::App& command, SetOutputOptions& options) {
     command
-        .add_option("--bit-depth", bitDepth,
+        .add_option("--bit-depth", options.bitDepth,
                     "Bit depth of depth, normal, AO and packed PNGs (colour is always 8-bit sRGB)")
         ->check(CLI::IsMember({8, 16}))
+        ->each([&options](const std::string&) { options.bitDepthGiven = true; })
         ->capture_default_str();
+    command
+        .add_option("--format", options.format,
+                    "File format of depth, normal, AO and packed maps: png, or exr (32-bit float); colour "
+                    "stays an 8-bit sRGB PNG")
+        ->check(CLI::IsMember({"png", "exr"}))
+        ->capture_default_str();
+    command.add_flag("--write-height", options.height,
+                     "Also write the height map h = 1 - depth (white = high) beside the depth map");
+    // Checked as soon as the command line is parsed, before the set is computed.
+    command.parse_complete_callback([&options] {
+        if (options.format == "exr" && options.bitDepthGiven)
+            throw Error(ErrorKind::Usage,
+                        "--bit-depth applies to PNG maps; --format exr writes 32-bit float");
+    });
+}
+
+void applySetOutputOptions(const SetOutputOptions& options, TextureSetWriteOptions& write) {
+    write.format = parseMapFileFormat(options.format);
+    write.bitDepth = options.bitDepth;
+    write.height = options.height;
 }
 
 CLI::Validator depthScaleRange() {

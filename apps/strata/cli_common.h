@@ -37,8 +37,18 @@ void progress(const std::string& message);
 void warn(const std::string& message);
 void note(const std::string& message);
 
-// --bit-depth 8|16 (default 16), shared by every command that writes a texture set.
-void addBitDepthOption(CLI::App& command, int& bitDepth);
+// How a command writes its texture set: --bit-depth 8|16 (default 16), --format png|exr (default png) and
+// --write-height, shared by every command that writes a set (pattern, import, compose).
+struct SetOutputOptions {
+    int bitDepth = 16;
+    bool bitDepthGiven = false;
+    std::string format = "png";
+    bool height = false;
+};
+void addSetOutputOptions(CLI::App& command, SetOutputOptions& options);
+// --bit-depth with --format exr is a usage error (EXR maps are float), raised when the command line is
+// parsed. Copies them into `write`.
+void applySetOutputOptions(const SetOutputOptions& options, TextureSetWriteOptions& write);
 
 // The check of every --depth-scale that writes a set: (0, kMaxReliefDepthScale], as render takes it.
 // CLI11 reports "--depth-scale: must be in (0, 10], got 50" (exit 1).

@@ -1,5 +1,6 @@
 // strata compose MATERIAL.json -o DIR [--resolution N] [--normals paper|consistent]
-//                [--ao exact|multiply|min|none] [--ao-method sweep|paper|brute] [--bit-depth 8|16]
+//                [--ao exact|multiply|min|none] [--ao-method sweep|paper|brute] [--bit-depth 8|16] [--format
+//                png|exr] [--write-height]
 #include "cli_common.h"
 
 #include "strata/core/error.h"
@@ -23,7 +24,7 @@ struct ComposeOptions {
     std::string normals;
     std::string ao;
     std::string aoMethod;
-    int bitDepth = 16;
+    SetOutputOptions setOutput;
 };
 
 void runCompose(const ComposeOptions& options) {
@@ -100,7 +101,7 @@ void runCompose(const ComposeOptions& options) {
     }
 
     TextureSetWriteOptions write;
-    write.bitDepth = options.bitDepth;
+    applySetOutputOptions(options.setOutput, write);
     write.normalSource = toString(material.compose.normals);
     write.sourceJson = source.dump();
     write.inputs = materialInputs(material);
@@ -128,7 +129,7 @@ void addComposeCommand(CLI::App& app) {
         ->check(CLI::IsMember({"exact", "multiply", "min", "none"}));
     command->add_option("--ao-method", options->aoMethod, "Override the material's AO method")
         ->check(CLI::IsMember({"sweep", "paper", "brute"}));
-    addBitDepthOption(*command, options->bitDepth);
+    addSetOutputOptions(*command, options->setOutput);
     command->callback([options] { runCompose(*options); });
 }
 

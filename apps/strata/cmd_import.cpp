@@ -34,7 +34,7 @@ struct ImportOptions {
     fs::path checkNormal;
     PhotoImportParams photoParams;
     double depthScale = kDefaultDepthScale;
-    int bitDepth = 16;
+    SetOutputOptions setOutput;
     fs::path output;
 };
 
@@ -131,7 +131,7 @@ void runImport(ImportOptions options) {
         write.ao->method = toString(params.method);
         write.ao->directions = params.directions;
     }
-    write.bitDepth = options.bitDepth;
+    applySetOutputOptions(options.setOutput, write);
     write.normalSource = normalSource;
     write.sourceJson = source.dump();
     write.inputs = inputs;
@@ -183,7 +183,7 @@ void addImportCommand(CLI::App& app) {
                      "Depth scale S (depth of d = 1 in tile widths), (0, 10]")
         ->check(depthScaleRange())
         ->capture_default_str();
-    addBitDepthOption(*command, options->bitDepth);
+    addSetOutputOptions(*command, options->setOutput);
     command->add_option("-o,--output", options->output, "Output directory");
     command->callback([options] { runImport(*options); });
 }

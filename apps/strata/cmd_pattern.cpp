@@ -1,5 +1,6 @@
 // strata pattern --list
-// strata pattern NAME [--size N] [--seed K] [--depth-scale S] [--bit-depth 8|16] -o DIR
+// strata pattern NAME [--size N] [--seed K] [--depth-scale S] [--bit-depth 8|16] [--format png|exr]
+// [--write-height] -o DIR
 #include "cli_common.h"
 
 #include "strata/core/error.h"
@@ -20,7 +21,7 @@ struct PatternOptions {
     bool list = false;
     std::string name;
     PatternParams params;
-    int bitDepth = 16;
+    SetOutputOptions setOutput;
     std::filesystem::path output;
 };
 
@@ -37,7 +38,7 @@ void runPattern(const PatternOptions& options) {
     progress("generating " + options.name + " at " + std::to_string(options.params.size) + "^2");
     const ReliefTexture texture = makePattern(options.name, options.params);
     TextureSetWriteOptions write;
-    write.bitDepth = options.bitDepth;
+    applySetOutputOptions(options.setOutput, write);
     write.normalSource = "derived";
     write.sourceJson = nlohmann::json{{"kind", "pattern"},
                                       {"pattern", options.name},
@@ -64,7 +65,7 @@ void addPatternCommand(CLI::App& app) {
                      "Depth scale S for the normal map (depth of d = 1 in tile widths), (0, 10]")
         ->check(depthScaleRange())
         ->capture_default_str();
-    addBitDepthOption(*command, options->bitDepth);
+    addSetOutputOptions(*command, options->setOutput);
     command->add_option("-o,--output", options->output, "Output directory");
     command->callback([options] { runPattern(*options); });
 }

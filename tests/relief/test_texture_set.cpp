@@ -86,6 +86,68 @@ TEST(TextureSet, EightBitOptionWritesEightBitData) {
     EXPECT_EQ(readSidecar(dir.path())["bit_depth"], 8);
 }
 
+TEST(TextureSet, ExrSetsKeepEveryDataMapInFloat) {
+    test::ScratchDir dir("exr");
+    ReliefTexture texture = smallSet();
+    texture.ao = Image(8, 4, 1);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) texture.ao.at(x, y) = 0.3f + 0.01f * static_cast<float>(x * y);
+    TextureSetWriteOptions options;
+    options.format = MapFileFormat::Exr;
+    options.height = true;
+    options.ao = AoRecord{};
+    const auto written = writeTextureSet(dir.path(), texture, options);
+    EXPECT_EQ(written.size(), 7u);  // depth, height, normal, color, ao, packed, sidecar
+    for (const char* name : {"depth.exr", "height.exr", "normal.exr", "ao.exr", "packed.exr"})
+        EXPECT_EQ(readImageInfo(dir / name).format, ImageFormat::Exr) << name;
+    EXPECT_EQ(readImageInfo(dir / "color.png").bitDepth, 8);  // colour stays 8-bit sRGB
+    const ReliefTexture back = readTextureSet(dir.path());
+    EXPECT_EQ(test::maxAbsDiff(back.depth, texture.depth), 0.0);
+    EXPECT_EQ(test::maxAbsDiff(back.ao, texture.ao), 0.0);
+    EXPECT_LE(test::maxAbsDiff(back.normal, texture.normal), 1e-6);  // n * 0.5 + 0.5 and back, renormalised
+    EXPECT_EQ(test::maxAbsDiff(readImage(dir / "height.exr"), heightToDepth(texture.depth)), 0.0);
+    const nlohmann::json sidecar = readSidecar(dir.path());
+    EXPECT_EQ(sidecar["file_format"], "exr");
+    EXPECT_EQ(sidecar["bit_depth"], 32);
+    EXPECT_EQ(sidecar["packed"]["file"], "packed.exr");
+    EXPECT_EQ(sidecar["packed"]["ao_channel"], "ao.exr");
+    EXPECT_EQ(sidecar["height"]["encoding"], "height");
+    EXPECT_DOUBLE_EQ(sidecar["height"]["amplitude"].get<double>(), 0.12);
+
+    // A new AO map keeps the set's format and the stored depth and normals bit for bit.
+    const Image ao(8, 4, 1, 0.25f);
+    const auto updated = writeTextureSetAo(dir.path(), ao, AoRecord{});
+    EXPECT_EQ(updated.size(), 3u);
+    const Image packed = readImage(dir / "packed.exr");
+    const Image packedBefore = packRelief(texture);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) {
+            EXPECT_EQ(packed.at(x, y, 2), 0.25f);
+            EXPECT_EQ(packed.at(x, y, 3), packedBefore.at(x, y, 3));
+            EXPECT_EQ(packed.at(x, y, 0), packedBefore.at(x, y, 0));
+        }
+    EXPECT_EQ(readSidecar(dir.path())["ao"]["file"], "ao.exr");
+}
+
+TEST(TextureSet, HeightBesideAPngSetIsOneMinusDepth) {
+    test::ScratchDir dir("height");
+    TextureSetWriteOptions options;
+    options.height = true;
+    writeTextureSet(dir.path(), smallSet(), options);
+    const Image height = readImage(dir / "height.png");
+    const Image depth = readImage(dir / "depth.png");
+    // Both quantised to 16 bits from exact complements: their sum is 1 within one step.
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) EXPECT_NEAR(height.at(x, y) + depth.at(x, y), 1.0f, kSixteenBitStep);
+    EXPECT_EQ(readSidecar(dir.path())["height"]["file"], "height.png");
+    EXPECT_EQ(readSidecar(dir.path())["file_format"], "png");
+
+    test::ScratchDir plain("no-height");
+    writeTextureSet(plain.path(), smallSet());
+    EXPECT_FALSE(readSidecar(plain.path()).contains("height"));
+    EXPECT_FALSE(std::filesystem::exists(plain / "height.png"));
+}
+
 TEST(TextureSet, AFailedWriteLeavesNothingBehind) {
     test::ScratchDir dir("fail");
     test::writeBytes(dir / "taken", "a file where the set directory should be");

@@ -834,6 +834,11 @@ TEST(ViewerCli, ExitCodesWithoutADisplay) {
     // 5: a screenshot format other than PNG.
     run = runWithoutDisplay("stone-bricks --screenshot " + quoted(dir / "a.jpg"));
     EXPECT_EQ(run.exitCode, 5) << run.output;
+    // 1: a malformed --max-memory, named as `strata` names it.
+    run = runWithoutDisplay("--max-memory 12X");
+    EXPECT_EQ(run.exitCode, 1) << run.output;
+    EXPECT_NE(run.output.find("strata-view: error: --max-memory '12X': unknown suffix"), std::string::npos)
+        << run.output;
     EXPECT_EQ(test::countEntries(dir.path()), 3);  // bad.json, d.png, m.json: nothing was written
 }
 
@@ -909,6 +914,20 @@ int pixelsUnlikeTheBackground(const Image& view, int x0, int y0, int x1, int y1)
             count += difference > 0.1 ? 1 : 0;
         }
     return count;
+}
+
+// The viewer holds its material's maps under the same budget as `strata`: a 512^2 material does not fit
+// 4 MiB, the viewer says so with exit 5, and no screenshot is written.
+TEST(ViewerCli, MaxMemoryBoundsTheMaterialsMaps) {
+    SKIP_WITHOUT_VIEWER();
+    test::ScratchDir dir("viewer-budget");
+    const test::CommandResult run = runUnderXvfb(
+        viewer() + " --max-memory 4M stone-bricks --size 256x192 --screenshot " + quoted(dir / "a.png"));
+    EXPECT_EQ(run.exitCode, 5) << run.output;
+    EXPECT_NE(run.output.find("strata-view: error: a 512 x 512 image of"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("more than the memory budget of 4 MiB (--max-memory)"), std::string::npos)
+        << run.output;
+    EXPECT_FALSE(fs::exists(dir / "a.png"));
 }
 
 TEST(ViewerCli, ScreenshotUnderXvfbMatchesStrataRender) {

@@ -9,6 +9,9 @@
 //   strata.json  the sidecar of CONVENTIONS §6
 //
 // `--bit-depth 8` writes depth, normal, ao and packed as dithered 8-bit PNGs instead.
+// `--format exr` writes them as 32-bit float EXRs (depth.exr, normal.exr, ao.exr, packed.exr) with the
+// same encodings; colour stays an 8-bit sRGB PNG. `--write-height` adds height.png (or height.exr),
+// h = 1 - d (white = high), for tools that take height. The sidecar names every file.
 // Maps of different resolutions in one set are normal (e.g. colour 1024², depth 512²); packed.png
 // has the depth map's resolution, with the normals resampled to it if they differ.
 #pragma once
@@ -37,8 +40,19 @@ struct AoRecord {
     int directions = 0;  // M, 0 = not applicable
 };
 
+// The file format of a set's data maps (depth, normal, ao, packed, height).
+enum class MapFileFormat {
+    Png,  // 16-bit (or 8-bit, dithered) PNG
+    Exr,  // 32-bit float EXR
+};
+const char* toString(MapFileFormat format);  // "png", "exr"
+// "png" or "exr"; throws Error(Usage) naming `flag` otherwise.
+MapFileFormat parseMapFileFormat(const std::string& text, const std::string& flag = "--format");
+
 struct TextureSetWriteOptions {
-    int bitDepth = 16;  // 16 or 8 for depth, normal, ao and packed; colour is always 8-bit sRGB
+    int bitDepth = 16;  // PNG sets: 16 or 8 for depth, normal, ao and packed; colour is always 8-bit sRGB
+    MapFileFormat format = MapFileFormat::Png;
+    bool height = false;  // also write the height map h = 1 - d (white = high) beside depth
     // "paper" or "consistent" for composed sets, "derived" for normals computed from depth,
     // "file" for normals read from a file. Recorded in the sidecar.
     std::string normalSource = "derived";
@@ -60,7 +74,8 @@ std::vector<std::filesystem::path> writeTextureSet(const std::filesystem::path& 
 // Adds (or replaces) the AO map of the set in `dir`: writes ao.png, packed.png with its B channel
 // set to `ao` (its other channels copied as stored, so normals and depth are not re-quantised) and the
 // sidecar's "ao" and "packed" entries, all staged and moved in as a whole, the sidecar last. `ao`:
-// 1 channel at the depth map's size, in [0, 1]. Bit depth: the set's "bit_depth". Returns the paths
+// 1 channel at the depth map's size, in [0, 1]. Format and bit depth: the set's "file_format" (ao.exr and
+// packed.exr in an EXR set) and "bit_depth". Returns the paths
 // written. Throws like readSidecar, Error(InvalidInput) for an AO map of another size.
 std::vector<std::filesystem::path> writeTextureSetAo(const std::filesystem::path& dir, const Image& ao,
                                                      const AoRecord& record);
