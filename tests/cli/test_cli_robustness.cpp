@@ -3,8 +3,10 @@
 #include "test_support.h"
 
 #include "strata/core/file.h"
+#include "strata/relief/texture_set.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <fcntl.h>
 #include <signal.h>
@@ -124,6 +126,46 @@ TEST(CliRobustness, PathsThatAreNotFilesAreNamedAsSuch) {
     expectFailure("info " + quoted(dir / "fifo.png"), 2,
                   (dir / "fifo.png").string() + ": not a regular file (a device, a FIFO or a socket)");
     EXPECT_EQ(test::countEntries(dir.path()), 4);  // set, ao.png/, empty/, fifo.png: nothing written
+}
+
+// Seeds are unsigned 32-bit everywhere: a negative seed is refused, not wrapped and printed as -1, and the
+// largest is recorded as given.
+TEST(CliRobustness, SeedsAreUnsigned32BitEverywhere) {
+    test::ScratchDir dir("cli-seeds");
+    expectFailure("pattern base --size 64 --seed -1 -o " + quoted(dir / "a"), 1,
+                  "strata: error: Could not convert: --seed = -1");
+    expectFailure("meso weave --seed -1 -o " + quoted(dir / "b"), 1,
+                  "strata: error: Could not convert: --seed = -1");
+    test::writeBytes(dir / "m.json",
+                     R"({"resolution": 64, "layers": [{"pattern": "base", "size": 64, "seed": -1}]})");
+    expectFailure("compose " + quoted(dir / "m.json") + " -o " + quoted(dir / "c"), 3,
+                  "m.json: layers[0].seed: must be in [0, 4294967295], got -1");
+    const auto largest = runCli("pattern base --size 64 --seed 4294967295 -o " + quoted(dir / "d"));
+    ASSERT_EQ(largest.exitCode, 0) << largest.output;
+    EXPECT_EQ(readSidecar(dir / "d")["source"]["seed"].get<std::uint64_t>(), 4294967295u);
+    EXPECT_EQ(test::countEntries(dir.path()), 2);  // m.json and d
+}
+
+// Staging happens beside the target, so a set written onto another filesystem (a Docker volume, tmpfs)
+// is renamed into place, not copied across devices ("Invalid cross-device link").
+TEST(CliRobustness, ASetWrittenOntoAnotherFilesystemArrivesWhole) {
+    test::ScratchDir dir("cli-cross-device");
+    struct stat here {};
+    struct stat shm {};
+    if (stat(dir.path().c_str(), &here) != 0 || stat("/dev/shm", &shm) != 0 || here.st_dev == shm.st_dev ||
+        access("/dev/shm", W_OK) != 0)
+        GTEST_SKIP() << "no writable /dev/shm on another filesystem than " << dir.path();
+    const fs::path target = fs::path("/dev/shm") / ("strata-test-cross-device-" + std::to_string(getpid()));
+    const auto result = runCli("pattern base --size 64 -o " + quoted(target / "set"));
+    EXPECT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_TRUE(fs::exists(target / "set" / "strata.json"));
+    const auto ao =
+        runCli("ao " + quoted(target / "set") + " --directions 4 -o " + quoted(target / "ao.png"));
+    EXPECT_EQ(ao.exitCode, 0) << ao.output;
+    EXPECT_TRUE(fs::exists(target / "ao.png"));
+    EXPECT_FALSE(hasStagingEntry(target));
+    std::error_code ec;
+    fs::remove_all(target, ec);
 }
 
 TEST(CliRobustness, InfoDecodesTheWholeImage) {

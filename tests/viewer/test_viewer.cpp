@@ -894,11 +894,24 @@ void expectSamePicture(const Image& view, const Image& reference, const std::str
 
 // A command under `xvfb-run -a`. Two servers starting at once can pick the same display number (ctest runs
 // the viewer tests one at a time: RESOURCE_LOCK xvfb in tests/CMakeLists.txt); a server that fails to start
-// anyway is retried once.
+// anyway is retried once. xvfb-run replaces the command's exit status with its own 5 when removing its
+// temporary directory fails (a race with the X server's lock files on a busy machine), so the command's
+// status is echoed inside the server and read from there.
 test::CommandResult runUnderXvfb(const std::string& command) {
-    test::CommandResult run = runShell("xvfb-run -a " + command);
-    if (run.exitCode != 0 && run.output.find("Xvfb failed to start") != std::string::npos)
-        run = runShell("xvfb-run -a " + command);
+    std::string escaped;
+    for (const char c : command) escaped += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    const std::string marker = "strata-test-exit-status=";
+    const std::string wrapped = "xvfb-run -a sh -c '" + escaped + "; echo " + marker + "$?'";
+    test::CommandResult run = runShell(wrapped);
+    if (run.output.find(marker) == std::string::npos &&
+        run.output.find("Xvfb failed to start") != std::string::npos)
+        run = runShell(wrapped);
+    const std::size_t at = run.output.rfind(marker);
+    if (at != std::string::npos) {
+        run.exitCode = std::atoi(run.output.c_str() + at + marker.size());
+        const std::size_t end = run.output.find('\n', at);
+        run.output.erase(at, end == std::string::npos ? std::string::npos : end - at + 1);
+    }
     return run;
 }
 
