@@ -3,6 +3,7 @@
 #include "test_support.h"
 
 #include "strata/core/file.h"
+#include "strata/image/image_io.h"
 #include "strata/relief/texture_set.h"
 
 #include <gtest/gtest.h>
@@ -17,6 +18,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <limits>
 #include <thread>
 
 extern char** environ;
@@ -166,6 +168,29 @@ TEST(CliRobustness, ASetWrittenOntoAnotherFilesystemArrivesWhole) {
     EXPECT_FALSE(hasStagingEntry(target));
     std::error_code ec;
     fs::remove_all(target, ec);
+}
+
+// Values that are not numbers are errors naming where they are, through the CLI as in the readers: NaN in an
+// EXR normal map (read as (0, 0, 0) normals before), inf in an OBJ vertex (read as 0 before).
+TEST(CliRobustness, NonFiniteValuesAreExit3NamingTheirPlace) {
+    test::ScratchDir dir("cli-non-finite");
+    Image normals(64, 64, 3, 0.5f);
+    normals.at(5, 2, 1) = std::numeric_limits<float>::quiet_NaN();
+    writeExr(dir / "n.exr", normals);
+    writePng(dir / "d.png", Image(64, 64, 1, 0.25f));
+    expectFailure(
+        "import --depth " + quoted(dir / "d.png") + " --normal " + quoted(dir / "n.exr") + " -o " +
+            quoted(dir / "set"),
+        3,
+        "strata: error: " + (dir / "n.exr").string() +
+            ": EXR channel G holds nan at column 5, row 2 (row 0 is the top); only finite values are read");
+    test::writeBytes(dir / "q.obj",
+                     "v 0 0 0\nv 1 0 inf\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                     "f 1/1 2/2 3/3 4/4\n");
+    expectFailure(
+        "render --mesh " + quoted(dir / "q.obj") + " --size 64x64 -o " + quoted(dir / "r.png"), 3,
+        "strata: error: " + (dir / "q.obj").string() + ": line 2: 'v' value 'inf' is not a finite number");
+    EXPECT_EQ(test::countEntries(dir.path()), 3);  // n.exr, d.png, q.obj: nothing written
 }
 
 TEST(CliRobustness, InfoDecodesTheWholeImage) {
