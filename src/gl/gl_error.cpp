@@ -36,9 +36,11 @@ const char* errorName(GLenum error) {
     }
 }
 
-void GLAPIENTRY recordMessage(GLenum /*source*/, GLenum type, GLuint /*id*/, GLenum /*severity*/,
-                              GLsizei length, const GLchar* message, const void* /*user*/) {
-    if (type != GL_DEBUG_TYPE_ERROR) return;
+// The shader compiler's messages are left out: a failed compile or link is reported by Program from its
+// info log (file and line), and the same text here would fail the next checkGl of a debug context only.
+void GLAPIENTRY recordMessage(GLenum source, GLenum type, GLuint /*id*/, GLenum /*severity*/, GLsizei length,
+                              const GLchar* message, const void* /*user*/) {
+    if (type != GL_DEBUG_TYPE_ERROR || source == GL_DEBUG_SOURCE_SHADER_COMPILER) return;
     tRecordedErrors.emplace_back(
         message, length >= 0 ? static_cast<std::size_t>(length) : std::string(message).size());
 }

@@ -17,9 +17,7 @@ namespace {
 
 using test::runCli;
 
-std::string quoted(const std::filesystem::path& path) {
-    return "\"" + path.string() + "\"";
-}
+using test::quoted;
 
 TEST(Cli, HelpAndUsageExitCodes) {
     EXPECT_EQ(runCli("--help").exitCode, 0);

@@ -17,9 +17,7 @@ namespace {
 
 using test::runCli;
 
-std::string quoted(const std::filesystem::path& path) {
-    return "\"" + path.string() + "\"";
-}
+using test::quoted;
 
 // A 40 x 24 map (no power of two, not square): flat at d = 0.25 with one deep texel at file column 10,
 // row 5, and a ramp in its right half.

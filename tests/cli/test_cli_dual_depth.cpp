@@ -11,9 +11,7 @@ namespace {
 
 using test::runCli;
 
-std::string quoted(const std::filesystem::path& path) {
-    return "\"" + path.string() + "\"";
-}
+using test::quoted;
 
 TEST(CliDualDepth, WritesWhatTheLibraryMakes) {
     test::ScratchDir dir("cli-dual-depth");

@@ -15,9 +15,7 @@ namespace {
 
 using test::runCli;
 
-std::string quoted(const std::filesystem::path& path) {
-    return "\"" + path.string() + "\"";
-}
+using test::quoted;
 
 class CliExport : public ::testing::Test {
 protected:

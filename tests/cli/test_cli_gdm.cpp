@@ -18,9 +18,7 @@ namespace {
 
 using test::runCli;
 
-std::string quoted(const std::filesystem::path& path) {
-    return "\"" + path.string() + "\"";
-}
+using test::quoted;
 
 TEST(CliGdm, BakesAReadableAssetThatInfoDescribes) {
     test::ScratchDir dir("cli-gdm");

@@ -20,9 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::runCli;
 
-std::string quoted(const fs::path& path) {
-    return "\"" + path.string() + "\"";
-}
+using test::quoted;
 
 // A tiny asset, baked once for the suite: the weave at 16 x 16 x 4 voxels, 8 x 16 directions, rank 8, with
 // the raw GDM; and two copies that lack the raw GDM and the solid (an asset baked before solid.obj).

@@ -13,9 +13,7 @@ namespace {
 
 using test::runCli;
 
-std::string quoted(const std::filesystem::path& path) {
-    return "\"" + path.string() + "\"";
-}
+using test::quoted;
 
 TEST(CliMeso, ListsTheFiveBuiltIns) {
     const auto result = runCli("meso --list");

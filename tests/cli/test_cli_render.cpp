@@ -19,9 +19,7 @@ namespace {
 
 using test::runCli;
 
-std::string quoted(const std::filesystem::path& path) {
-    return "\"" + path.string() + "\"";
-}
+using test::quoted;
 
 // Skips the test when the CLI reports that it has no OpenGL 4.5 context (exit 5, Unsupported).
 #define SKIP_WITHOUT_GL(result) \

@@ -23,9 +23,7 @@ using test::runCli;
 #define SKIP_WITHOUT_GL(result) \
     if ((result).exitCode == 5) GTEST_SKIP() << "no OpenGL context: " << (result).output
 
-std::string quoted(const fs::path& path) {
-    return "\"" + path.string() + "\"";
-}
+using test::quoted;
 
 // A tiny weave asset for the suite: 16 x 16 x 4 voxels, 8 x 16 directions, rank 8, with the raw GDM; and a
 // copy baked without it.

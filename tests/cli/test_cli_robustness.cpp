@@ -29,9 +29,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::runCli;
 
-std::string quoted(const fs::path& path) {
-    return "\"" + path.string() + "\"";
-}
+using test::quoted;
 
 // Asserts the exit code and that the output holds `message`.
 void expectFailure(const std::string& args, int exitCode, const std::string& message) {

@@ -15,9 +15,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::runCli;
 
-std::string quoted(const fs::path& path) {
-    return "\"" + path.string() + "\"";
-}
+using test::quoted;
 
 TEST(CliSetFormats, PatternWritesAFloatSetWithHeightThatOtherCommandsRead) {
     test::ScratchDir dir("set-exr");

@@ -30,6 +30,10 @@ ScratchDir::~ScratchDir() {
     fs::remove_all(mPath, ec);
 }
 
+std::string quoted(const std::filesystem::path& path) {
+    return "\"" + path.string() + "\"";
+}
+
 CommandResult runCli(const std::string& args) {
     const std::string command = std::string("\"") + STRATA_CLI_PATH + "\" " + args + " 2>&1";
     FILE* pipe = ::popen(command.c_str(), "r");

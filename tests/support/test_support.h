@@ -31,6 +31,9 @@ struct CommandResult {
 // Runs the built `strata` binary with the given argument string (shell-quoted by the caller).
 CommandResult runCli(const std::string& args);
 
+// A path in double quotes, for runCli's argument string (test paths hold no quotes or dollars).
+std::string quoted(const std::filesystem::path& path);
+
 // A baseline JPEG (stb_image_write, quality 90) of `size` x `size` RGB noise from `seed`: a file whose every
 // block carries data, for corrupt- and oversized-JPEG tests.
 std::string noiseJpeg(int size, std::uint32_t seed);
