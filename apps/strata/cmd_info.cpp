@@ -43,9 +43,11 @@ std::string sizeText(const json& size) {
 void printSet(const fs::path& path, const json& sidecar) {
     std::cout << path.string() << ": Strata texture set (" << sidecar.value("tool", "?") << ")\n";
     std::cout << "  depth scale S : " << sidecar.value("depth_scale", 0.0) << " tile widths\n";
-    std::cout << "  bit depth     : " << sidecar.value("bit_depth", 0) << "\n";
-    for (const char* key : {"depth", "normal", "color", "ao", "packed"}) {
+    std::cout << "  bit depth     : " << sidecar.value("bit_depth", 0) << " ("
+              << sidecar.value("file_format", "png") << ")\n";
+    for (const char* key : {"depth", "height", "normal", "color", "ao", "packed"}) {
         const auto it = sidecar.find(key);
+        if (std::string(key) == "height" && it == sidecar.end()) continue;  // only with --write-height
         std::cout << "  " << key << std::string(14 - std::string(key).size(), ' ') << ": ";
         if (it == sidecar.end() || it->is_null()) {
             std::cout << "none\n";
@@ -55,6 +57,8 @@ void printSet(const fs::path& path, const json& sidecar) {
         if (std::string(key) == "normal")
             std::cout << ", " << it->value("convention", "?") << " (green " << it->value("green", "?")
                       << "), from " << it->value("source", "?");
+        if (std::string(key) == "height")
+            std::cout << ", white = high, amplitude " << it->value("amplitude", 0.0);
         if (std::string(key) == "ao")
             std::cout << ", R = " << it->value("radius", 0.0) << ", " << it->value("method", "?");
         if (std::string(key) == "packed") std::cout << ", B channel: " << it->value("ao_channel", "?");

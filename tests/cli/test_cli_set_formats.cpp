@@ -33,6 +33,12 @@ TEST(CliSetFormats, PatternWritesAFloatSetWithHeightThatOtherCommandsRead) {
     EXPECT_EQ(sidecar["height"]["file"], "height.exr");
     EXPECT_DOUBLE_EQ(sidecar["height"]["amplitude"].get<double>(), sidecar["depth_scale"].get<double>());
 
+    const auto info = runCli("info " + quoted(dir / "s"));
+    EXPECT_NE(info.output.find("bit depth     : 32 (exr)"), std::string::npos) << info.output;
+    EXPECT_NE(info.output.find("height        : height.exr 64x64, white = high, amplitude 0.08"),
+              std::string::npos)
+        << info.output;
+
     // Float maps hold the library's maps exactly; the height map is 1 - depth.
     PatternParams params;
     params.size = 64;
