@@ -139,12 +139,13 @@ std::uint64_t trackedBytes() {
     return trackedStorage().load(std::memory_order_relaxed);
 }
 
-void acquireTracked(std::uint64_t bytes, const std::string& what) {
+bool tryAcquireTracked(std::uint64_t bytes) {
     std::atomic<std::uint64_t>& tracked = trackedStorage();
     std::uint64_t held = tracked.load(std::memory_order_relaxed);
     do {
-        if (over(held, bytes, memoryBudget())) refuse(bytes, held, what);
+        if (over(held, bytes, memoryBudget())) return false;
     } while (!tracked.compare_exchange_weak(held, held + bytes, std::memory_order_relaxed));
+    return true;
 }
 
 void releaseTracked(std::uint64_t bytes) noexcept {

@@ -31,7 +31,9 @@ void* allocateUntracked(std::size_t bytes) {
 // Every pixel buffer counts against the memory budget for as long as it lives, copies included. The
 // constructor has already checked the same request with a message naming the image's dimensions.
 void* Image::allocatePixels(std::size_t bytes) {
-    acquireTracked(bytes, "an image of " + formatBytes(bytes));
+    // reserveOrThrow throws with what is held; it returns only when another thread released images in
+    // between, and the acquisition is tried again.
+    while (!tryAcquireTracked(bytes)) reserveOrThrow(bytes, "an image of " + formatBytes(bytes));
     try {
         return allocateUntracked(bytes);
     } catch (...) {

@@ -46,10 +46,12 @@ void reserveOrThrow(std::uint64_t bytes, const std::string& what);
 // Bytes held in tracked buffers now: the pixels of every live strata::Image.
 std::uint64_t trackedBytes();
 
-// Checks `bytes` as reserveOrThrow does and adds them to the tracked total, atomically (two threads
-// cannot both pass the check with room for one). Pair with releaseTracked.
-void acquireTracked(std::uint64_t bytes, const std::string& what);
-// Removes bytes added by acquireTracked.
+// Adds `bytes` to the tracked total when they fit the budget on top of it, atomically (two threads cannot
+// both pass the check with room for one), and returns true; returns false and adds nothing otherwise (the
+// caller throws with reserveOrThrow's message, so that the hot path formats no text). Pair with
+// releaseTracked.
+bool tryAcquireTracked(std::uint64_t bytes);
+// Removes bytes added by tryAcquireTracked.
 void releaseTracked(std::uint64_t bytes) noexcept;
 
 // width * height * channels * bytesPerSample, computed without overflow (a product beyond 2^64
