@@ -246,36 +246,25 @@ TEST(CliBudget, AGltfAccessorOf400MillionElementsIsRefusedBeforeAllocating) {
     EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
-TEST(CliBudget, AValidNormalMapOverTheBudgetIsRefusedBeforeItIsDecoded) {
+// A valid 2048^2 normal map (48 MiB of floats once read) after its 2048^2 depth map (16 MiB): refused
+// before it is decoded when it does not fit alone (32 MiB), and when it fits alone but not with the
+// depth map held (56 MiB): the budget bounds every image the process holds at once.
+TEST(CliBudget, ANormalMapIsRefusedAloneOrWithTheImagesAlreadyHeld) {
     test::ScratchDir dir("budget-normal");
-    // An all-zero (flat-encoded) 2048^2 RGB normal map: 48 MiB of floats once read, over a 32 MiB budget
-    // on its own.
-    writeConstantPng(dir / "n.png", 2048, 2048, 3, 0);
-    writeConstantPng(dir / "h.png", 2048, 2048, 1, 128);
-    expectRefused(
-        runMeasured({"--max-memory", "32M", "import", "--height", (dir / "h.png").string(), "--normal",
-                     (dir / "n.png").string(), "-o", (dir / "set").string()},
-                    dir.path()),
-        5, "strata: error: " + (dir / "n.png").string() + ": a 2048 x 2048 PNG of 3 channels needs 48 MiB");
-    EXPECT_FALSE(fs::exists(dir / "set"));
-}
-
-// The budget bounds every image the process holds at once, not each request alone: the depth map read
-// first counts against the normal map read next.
-TEST(CliBudget, TheBudgetCountsTheImagesAlreadyHeld) {
-    test::ScratchDir dir("budget-held");
     writeConstantPng(dir / "n.png", 2048, 2048, 3, 0);
     writeConstantPng(dir / "d.png", 2048, 2048, 1, 128);
-    // The normal map's 48 MiB fit in 56 MiB on their own; with the depth map's 16 MiB held they do not.
-    const Measured result = runMeasured({"--max-memory", "56M", "import", "--depth", (dir / "d.png").string(),
-                                         "--normal", (dir / "n.png").string(), "-o", (dir / "set").string()},
-                                        dir.path());
-    expectRefused(
-        result, 5,
-        "strata: error: " + (dir / "n.png").string() +
-            ": a 2048 x 2048 PNG of 3 channels needs 48 MiB; with 16 MiB of images already held, that "
-            "is more than the memory budget of 56 MiB (--max-memory)");
-    EXPECT_FALSE(fs::exists(dir / "set"));
+    for (const std::string& budget : {std::string("32M"), std::string("56M")}) {
+        expectRefused(
+            runMeasured({"--max-memory", budget, "import", "--depth", (dir / "d.png").string(), "--normal",
+                         (dir / "n.png").string(), "-o", (dir / "set").string()},
+                        dir.path()),
+            5,
+            "strata: error: " + (dir / "n.png").string() +
+                ": a 2048 x 2048 PNG of 3 channels needs 48 MiB; with 16 MiB of images already held, "
+                "that is more than the memory budget of " +
+                budget.substr(0, 2) + " MiB (--max-memory)");
+        EXPECT_FALSE(fs::exists(dir / "set"));
+    }
 }
 
 // The case: an all-zero 16384^2 normal map cost 9.4 GB. Next to its 16384^2 depth map (1 GiB of

@@ -16,9 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::runCli;
 
-std::string q(const fs::path& path) {
-    return "\"" + path.string() + "\"";
-}
+using test::quoted;
 
 void expectFailure(const std::string& args, int exitCode, const std::string& message) {
     const auto result = runCli(args);
@@ -33,7 +31,7 @@ nlohmann::json readJson(const fs::path& path) {
 
 // A 64^2 mini-bricks set in DIR/set, and its normal map with green flipped (DirectX) in DIR/dx.png.
 void makeInputs(const test::ScratchDir& dir) {
-    ASSERT_EQ(runCli("pattern mini-bricks --size 64 -o " + q(dir / "set")).exitCode, 0);
+    ASSERT_EQ(runCli("pattern mini-bricks --size 64 -o " + quoted(dir / "set")).exitCode, 0);
     Image normal = readImage(dir / "set" / "normal.png");
     for (int y = 0; y < normal.height(); ++y)
         for (int x = 0; x < normal.width(); ++x) normal.at(x, y, 1) = 1.0f - normal.at(x, y, 1);
@@ -55,21 +53,21 @@ TEST(CliNormals, ExplicitUpOnADirectXMapIsExit3WithTheOverride) {
     const test::ScratchDir dir("cli_normals_up");
     makeInputs(dir);
     const std::string base =
-        "import --depth " + q(dir / "set" / "depth.png") + " --normal " + q(dir / "dx.png");
+        "import --depth " + quoted(dir / "set" / "depth.png") + " --normal " + quoted(dir / "dx.png");
     expectFailure(
-        base + " --normal-y up -o " + q(dir / "out"), 3,
+        base + " --normal-y up -o " + quoted(dir / "out"), 3,
         "dx.png: read as up (OpenGL), but its gradient says DirectX (green down): y is opposite to the "
         "depth map's normals (r = -1.00), more than 0.60 against; use --normal-y down or auto, or add "
         "--force to keep --normal-y up");
     EXPECT_FALSE(fs::exists(dir / "out"));
     // --force keeps it, with the same text as a warning.
-    const auto forced = runCli(base + " --normal-y up --force -o " + q(dir / "forced"));
+    const auto forced = runCli(base + " --normal-y up --force -o " + quoted(dir / "forced"));
     EXPECT_EQ(forced.exitCode, 0) << forced.output;
     EXPECT_NE(forced.output.find("read as up (OpenGL), but its gradient says DirectX"), std::string::npos)
         << forced.output;
     EXPECT_EQ(readJson(dir / "forced" / "strata.json")["normal"]["source"], "file (OpenGL)");
     // The default is auto: detected and converted.
-    const auto automatic = runCli(base + " -o " + q(dir / "auto"));
+    const auto automatic = runCli(base + " -o " + quoted(dir / "auto"));
     EXPECT_EQ(automatic.exitCode, 0) << automatic.output;
     EXPECT_NE(automatic.output.find("dx.png: normal_y auto: DirectX (green down)"), std::string::npos)
         << automatic.output;
@@ -84,8 +82,8 @@ TEST(CliNormals, OpenGLMapReadAsDownIsExit3) {
     const test::ScratchDir dir("cli_normals_down");
     makeInputs(dir);
     expectFailure(
-        "import --depth " + q(dir / "set" / "depth.png") + " --normal " + q(dir / "set" / "normal.png") +
-            " --normal-y down -o " + q(dir / "out"),
+        "import --depth " + quoted(dir / "set" / "depth.png") + " --normal " +
+            quoted(dir / "set" / "normal.png") + " --normal-y down -o " + quoted(dir / "out"),
         3,
         "normal.png: read as down (DirectX), but its gradient says OpenGL (green up): y agrees with the "
         "depth map's normals (r = 1.00), more than 0.60 against; use --normal-y up or auto, or add "
@@ -97,8 +95,8 @@ TEST(CliNormals, AutoOnAFlatDepthFallsBackToUpWithANote) {
     makeInputs(dir);
     Image flat(64, 64, 1);
     writePng(dir / "flat.png", flat);
-    const auto result = runCli("import --depth " + q(dir / "flat.png") + " --normal " + q(dir / "dx.png") +
-                               " -o " + q(dir / "out"));
+    const auto result = runCli("import --depth " + quoted(dir / "flat.png") + " --normal " +
+                               quoted(dir / "dx.png") + " -o " + quoted(dir / "out"));
     EXPECT_EQ(result.exitCode, 0) << result.output;
     EXPECT_NE(
         result.output.find("dx.png: normal_y auto: unknown: the depth map is flat, so there is nothing to "
@@ -106,8 +104,8 @@ TEST(CliNormals, AutoOnAFlatDepthFallsBackToUpWithANote) {
         std::string::npos)
         << result.output;
     // --check-normal cannot tell either: exit 3 (scripts branch on it).
-    expectFailure("import --check-normal " + q(dir / "dx.png") + " --depth " + q(dir / "flat.png"), 3,
-                  "dx.png: cannot tell the convention: unknown: the depth map is flat");
+    expectFailure("import --check-normal " + quoted(dir / "dx.png") + " --depth " + quoted(dir / "flat.png"),
+                  3, "dx.png: cannot tell the convention: unknown: the depth map is flat");
 }
 
 TEST(CliNormals, ObviouslyWrongMapsAreExit3) {
@@ -116,34 +114,35 @@ TEST(CliNormals, ObviouslyWrongMapsAreExit3) {
     writePng(dir / "grey.png", filled(0.3f, 0.3f, 0.3f));
     writePng(dir / "black.png", filled(0.0f, 0.0f, 0.0f));
     writePng(dir / "signed.png", filled(0.4f, 0.7f, 0.0f));
-    const std::string depth = " --depth " + q(dir / "set" / "depth.png") + " -o " + q(dir / "out");
+    const std::string depth = " --depth " + quoted(dir / "set" / "depth.png") + " -o " + quoted(dir / "out");
     expectFailure(
-        "import --normal " + q(dir / "grey.png") + depth, 3,
+        "import --normal " + quoted(dir / "grey.png") + depth, 3,
         "grey.png: not a normal map: 100 % of its texels are grey (r = g = b); is it a height or depth "
         "map?");
-    expectFailure("import --normal " + q(dir / "black.png") + depth, 3,
+    expectFailure("import --normal " + quoted(dir / "black.png") + depth, 3,
                   "black.png: not a normal map: 100 % of its texels are grey");
     expectFailure(
-        "import --normal " + q(dir / "signed.png") + depth, 3,
+        "import --normal " + quoted(dir / "signed.png") + depth, 3,
         "signed.png: not a tangent-space normal map: 100 % of its normals point into the surface (z < "
         "0); is it signed, black or empty?");
     // Normals given as height.
-    expectFailure("import --height " + q(dir / "set" / "normal.png") + " -o " + q(dir / "out"), 3,
+    expectFailure("import --height " + quoted(dir / "set" / "normal.png") + " -o " + quoted(dir / "out"), 3,
                   "normal.png: looks like a tangent-space normal map (mean r, g, b = 0.5");
-    expectFailure("ao " + q(dir / "set" / "normal.png") + " --depth-scale 0.1 -o " + q(dir / "ao.png"), 3,
-                  "not a height or depth map; give it as the normal map");
+    expectFailure(
+        "ao " + quoted(dir / "set" / "normal.png") + " --depth-scale 0.1 -o " + quoted(dir / "ao.png"), 3,
+        "not a height or depth map; give it as the normal map");
     EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 TEST(CliNormals, AoIntoASetAndImportAo) {
     const test::ScratchDir dir("cli_normals_ao");
     makeInputs(dir);
-    ASSERT_EQ(
-        runCli("import --depth " + q(dir / "set" / "depth.png") + " --depth-scale 0.08 -o " + q(dir / "imp"))
-            .exitCode,
-        0);
+    ASSERT_EQ(runCli("import --depth " + quoted(dir / "set" / "depth.png") + " --depth-scale 0.08 -o " +
+                     quoted(dir / "imp"))
+                  .exitCode,
+              0);
     EXPECT_TRUE(readJson(dir / "imp" / "strata.json")["ao"].is_null());
-    const auto updated = runCli("ao " + q(dir / "imp"));
+    const auto updated = runCli("ao " + quoted(dir / "imp"));
     EXPECT_EQ(updated.exitCode, 0) << updated.output;
     const nlohmann::json sidecar = readJson(dir / "imp" / "strata.json");
     EXPECT_EQ(sidecar["ao"]["file"], "ao.png");
@@ -155,16 +154,16 @@ TEST(CliNormals, AoIntoASetAndImportAo) {
         for (int x = 0; x < ao.width(); ++x)
             ASSERT_EQ(packed.at(x, y, 2), ao.at(x, y)) << x << "," << y;  // the same 16-bit values
     // import --ao bakes the same AO (same call, same defaults, same S): identical files.
-    ASSERT_EQ(runCli("import --ao --depth " + q(dir / "set" / "depth.png") + " --depth-scale 0.08 -o " +
-                     q(dir / "impao"))
+    ASSERT_EQ(runCli("import --ao --depth " + quoted(dir / "set" / "depth.png") + " --depth-scale 0.08 -o " +
+                     quoted(dir / "impao"))
                   .exitCode,
               0);
     EXPECT_EQ(test::maxAbsDiff(readImage(dir / "impao" / "ao.png"), ao), 0.0);
     EXPECT_EQ(test::maxAbsDiff(readImage(dir / "impao" / "packed.png"), packed), 0.0);
     // A loose map cannot be updated in place; a set takes its own S.
-    expectFailure("ao " + q(dir / "set" / "depth.png") + " --depth-scale 0.1", 1,
+    expectFailure("ao " + quoted(dir / "set" / "depth.png") + " --depth-scale 0.1", 1,
                   "ao: give -o AO.png (only a texture set can be updated in place");
-    expectFailure("ao " + q(dir / "imp") + " --depth-scale 0.1", 1,
+    expectFailure("ao " + quoted(dir / "imp") + " --depth-scale 0.1", 1,
                   "ao: --depth-scale cannot be given when updating a texture set");
 }
 
