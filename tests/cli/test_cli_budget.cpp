@@ -104,27 +104,15 @@ void expectRefused(const Measured& result, int exitCode, const std::string& mess
     std::printf("peak %ld KiB, exit %d: %s", result.peakKiB, result.exitCode, result.output.c_str());
 }
 
-std::string bigEndian32(std::uint32_t v) {
-    return {static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
-            static_cast<char>(v)};
-}
-
-// A PNG chunk with its CRC (the PNG specification's CRC-32, computed bitwise).
-std::string pngChunk(const std::string& type, const std::string& data) {
-    const std::string covered = type + data;
-    std::uint32_t crc = 0xffffffffu;
-    for (const char ch : covered) {
-        crc ^= static_cast<unsigned char>(ch);
-        for (int k = 0; k < 8; ++k) crc = (crc & 1u) ? (crc >> 1) ^ 0xedb88320u : crc >> 1;
-    }
-    return bigEndian32(static_cast<std::uint32_t>(data.size())) + covered + bigEndian32(crc ^ 0xffffffffu);
-}
+using test::bigEndian32;
+using test::kPngSignature;
+using test::pngChunk;
 
 // 65 bytes: signature, an IHDR of 16384 x 16384 RGBA 16-bit with a valid CRC, an IDAT holding an empty
 // zlib stream, IEND.
 std::string hostilePng() {
     const std::string ihdr = bigEndian32(16384) + bigEndian32(16384) + std::string{16, 6, 0, 0, 0};
-    return std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr) +
+    return kPngSignature + pngChunk("IHDR", ihdr) +
            pngChunk("IDAT", std::string("\x78\x9c\x03\x00\x00\x00\x00\x01", 8)) + pngChunk("IEND", "");
 }
 
@@ -155,8 +143,8 @@ void writeConstantPng(const fs::path& path, int width, int height, int channels,
         } while (z.avail_out == 0 || (last && status != Z_STREAM_END));
     }
     deflateEnd(&z);
-    test::writeBytes(path, std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr) +
-                               pngChunk("IDAT", idat) + pngChunk("IEND", ""));
+    test::writeBytes(path,
+                     kPngSignature + pngChunk("IHDR", ihdr) + pngChunk("IDAT", idat) + pngChunk("IEND", ""));
 }
 
 TEST(CliBudget, APngHeaderClaiming16384SquaredRgba16IsRefusedBeforeDecoding) {

@@ -53,23 +53,10 @@ std::string readAll(const fs::path& path) {
     return std::string(bytes.begin(), bytes.end());
 }
 
-std::uint32_t crc32(const std::string& data) {
-    std::uint32_t crc = 0xffffffffu;
-    for (unsigned char byte : data) {
-        crc ^= byte;
-        for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
-    }
-    return crc ^ 0xffffffffu;
-}
-
-std::string be32(std::uint32_t v) {
-    return {static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
-            static_cast<char>(v)};
-}
-
-std::string pngChunk(const std::string& type, const std::string& data) {
-    return be32(static_cast<std::uint32_t>(data.size())) + type + data + be32(crc32(type + data));
-}
+using test::bigEndian32;
+using test::kPngSignature;
+using test::pngChunk;
+using test::pngCrc32;
 
 // A zlib stream of stored (uncompressed) deflate blocks: enough to hand-make any PNG.
 std::string zlibStored(const std::string& raw) {
@@ -91,15 +78,13 @@ std::string zlibStored(const std::string& raw) {
         a = (a + c) % 65521;
         b = (b + a) % 65521;
     }
-    return out + be32(b << 16 | a);
+    return out + bigEndian32(b << 16 | a);
 }
-
-const std::string kPngSignature = "\x89PNG\r\n\x1a\n";
 
 // A PNG from its IHDR fields, optional extra chunks before IDAT, and raw scanlines (filter byte included).
 std::string makePng(std::uint32_t width, std::uint32_t height, int bitDepth, int colorType,
                     const std::string& scanlines, const std::string& extraChunks = "") {
-    const std::string ihdr = be32(width) + be32(height) + static_cast<char>(bitDepth) +
+    const std::string ihdr = bigEndian32(width) + bigEndian32(height) + static_cast<char>(bitDepth) +
                              static_cast<char>(colorType) + std::string(3, '\0');
     return kPngSignature + pngChunk("IHDR", ihdr) + extraChunks + pngChunk("IDAT", zlibStored(scanlines)) +
            pngChunk("IEND", "");
@@ -292,7 +277,7 @@ TEST(PngRead, LowBitGrayIsExpandedToEightBitLevels) {
 TEST(PngRead, InterlacedFileDecodes) {
     ScratchDir dir("adam7");
     // A 2x2 8-bit gray Adam7 file: pass 1 holds (0,0); pass 6 holds (1,0); pass 7 holds row 1.
-    std::string ihdr = be32(2) + be32(2) + std::string("\x08\x00\x00\x00\x01", 5);
+    std::string ihdr = bigEndian32(2) + bigEndian32(2) + std::string("\x08\x00\x00\x00\x01", 5);
     const std::string raw =
         std::string("\0\x10", 2) + std::string("\0\x20", 2) + std::string("\0\x30\x40", 3);
     test::writeBytes(dir / "i.png", kPngSignature + pngChunk("IHDR", ihdr) +
@@ -600,7 +585,7 @@ TEST(BadInput, TruncatedAndCorruptPngAreInvalidInput) {
     expectError([&] { readImage(dir / "flip.png"); }, ErrorKind::InvalidInput, dir / "flip.png", "PNG");
     // Valid chunks, garbage compressed data.
     std::string garbage = kPngSignature +
-                          pngChunk("IHDR", be32(4) + be32(4) + std::string("\x08\0\0\0\0", 5)) +
+                          pngChunk("IHDR", bigEndian32(4) + bigEndian32(4) + std::string("\x08\0\0\0\0", 5)) +
                           pngChunk("IDAT", "this is not zlib data") + pngChunk("IEND", "");
     test::writeBytes(dir / "garbage.png", garbage);
     expectError([&] { readImage(dir / "garbage.png"); }, ErrorKind::InvalidInput, dir / "garbage.png");
@@ -622,9 +607,9 @@ TEST(BadInput, OversizedPngIsRefusedFromItsHeader) {
     // Patch IHDR (length at 8, type at 12, data at 16, CRC at 29) to 100000 x 100000 and fix its CRC,
     // so that the header is valid and only its size is wrong. Decoding it would need 160 GB of floats.
     ASSERT_EQ(bytes.substr(12, 4), "IHDR");
-    bytes.replace(16, 4, be32(100000));
-    bytes.replace(20, 4, be32(100000));
-    bytes.replace(29, 4, be32(crc32(bytes.substr(12, 17))));
+    bytes.replace(16, 4, bigEndian32(100000));
+    bytes.replace(20, 4, bigEndian32(100000));
+    bytes.replace(29, 4, bigEndian32(pngCrc32(bytes.substr(12, 17))));
     test::writeBytes(dir / "huge.png", bytes);
     expectReadError(dir / "huge.png", ErrorKind::Unsupported, "100000 x 100000");
     // One side over the limit is enough.

@@ -30,6 +30,25 @@ ScratchDir::~ScratchDir() {
     fs::remove_all(mPath, ec);
 }
 
+std::string bigEndian32(std::uint32_t value) {
+    return {static_cast<char>(value >> 24), static_cast<char>(value >> 16), static_cast<char>(value >> 8),
+            static_cast<char>(value)};
+}
+
+std::uint32_t pngCrc32(const std::string& bytes) {
+    std::uint32_t crc = 0xffffffffu;
+    for (const unsigned char byte : bytes) {
+        crc ^= byte;
+        for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+    }
+    return crc ^ 0xffffffffu;
+}
+
+std::string pngChunk(const std::string& type, const std::string& data) {
+    return bigEndian32(static_cast<std::uint32_t>(data.size())) + type + data +
+           bigEndian32(pngCrc32(type + data));
+}
+
 std::string quoted(const std::filesystem::path& path) {
     return "\"" + path.string() + "\"";
 }

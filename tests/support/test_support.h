@@ -38,6 +38,14 @@ std::string quoted(const std::filesystem::path& path);
 // block carries data, for corrupt- and oversized-JPEG tests.
 std::string noiseJpeg(int size, std::uint32_t seed);
 
+// Hand-made PNG files for the readers' tests: the 8-byte signature, a big-endian 32-bit field, the CRC-32 of
+// the PNG specification (computed bitwise here, independently of zlib) and a whole chunk (length, type, data,
+// CRC of type and data).
+inline const std::string kPngSignature{"\x89PNG\r\n\x1a\n", 8};
+std::string bigEndian32(std::uint32_t value);
+std::uint32_t pngCrc32(const std::string& bytes);
+std::string pngChunk(const std::string& type, const std::string& data);
+
 // Writes raw bytes to a file (for corrupt-file tests).
 void writeBytes(const std::filesystem::path& path, const std::string& bytes);
 
